@@ -1,0 +1,42 @@
+# Tailor: the two commands of the README are `make demo` and `make test`.
+# Everything installs into the project-local virtual environment .venv (see .ci/bootstrap).
+
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.tailor-built
+SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o -name '*.pyi' -o -name '*.wgsl') Cargo.toml pyproject.toml
+
+.PHONY: demo test test-rust test-python bench setup develop clean
+
+## Set everything up and run the main job (headless drape of a sewn garment).
+demo: develop
+	$(PY) -m tailor demo --out out/demo
+
+## Run every test: the crates' own tests, then pytest against the built module.
+test: develop test-rust test-python
+
+test-rust:
+	cargo test --workspace --release
+
+test-python: develop
+	$(PY) -m pytest -q tests
+
+## Benchmarks (print figures; not part of the tests).
+bench: develop
+	cargo bench -p tailor-core --bench solver
+
+setup: $(VENV)/.tailor-setup
+
+$(VENV)/.tailor-setup: .ci/bootstrap
+	bash .ci/bootstrap
+	touch $@
+
+develop: $(STAMP)
+
+$(STAMP): $(VENV)/.tailor-setup $(SOURCES)
+	VIRTUAL_ENV=$(abspath $(VENV)) PATH=$(abspath $(VENV))/bin:$$PATH \
+		$(VENV)/bin/maturin develop --release --quiet
+	touch $@
+
+clean:
+	rm -rf $(VENV) target out

@@ -1,0 +1,20 @@
+//! # tailor-core
+//!
+//! The pure-Rust heart of Tailor: everything that does not need Python or Blender.
+//!
+//! * [`mesh`]: the cloth mesh the solver simulates (3D positions, the flat 2D rest shape of each
+//!   pattern piece, triangles) and its derived topology (edges, bending hinges).
+//! * [`solver`]: Projective Dynamics (Bouaziz et al. 2014) solved Vivace-style (Fratarcangeli et
+//!   al. 2016): randomized graph colouring, parallel Gauss-Seidel, Chebyshev acceleration, the
+//!   seam-closing damping ramp of Nylén et al. 2020, plus an f64 reference solver and error
+//!   measures.
+//! * [`pattern`]: 2D sewing patterns (DXF, SVG, GarmentCode) as outlines in metres.
+//!
+//! The `tailor` Python module (crate `tailor-py`) is a thin layer over this crate.
+
+pub mod error;
+pub mod mesh;
+pub mod pattern;
+pub mod solver;
+
+pub use error::{Result, TailorError};

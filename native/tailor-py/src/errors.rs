@@ -44,11 +44,26 @@ macro_rules! sub_exception {
 }
 
 sub_exception!(InvalidMeshError, "InvalidMeshError", PyValueError, "The cloth mesh is invalid: empty, an index out of range, a degenerate or non-manifold triangle, or a non-finite coordinate.");
-sub_exception!(InvalidParameterError, "InvalidParameterError", PyValueError, "A parameter is invalid: a mass, a setting, or arrays of mismatched shapes.");
+sub_exception!(
+    InvalidParameterError,
+    "InvalidParameterError",
+    PyValueError,
+    "A parameter is invalid: a mass, a setting, or arrays of mismatched shapes."
+);
 sub_exception!(SeamError, "SeamError", PyValueError, "A seam is invalid.");
-sub_exception!(PatternError, "PatternError", PyValueError, "A pattern or mesh file could not be read, or uses an unsupported feature.");
+sub_exception!(
+    PatternError,
+    "PatternError",
+    PyValueError,
+    "A pattern or mesh file could not be read, or uses an unsupported feature."
+);
 sub_exception!(TailorIOError, "TailorIOError", PyOSError, "Reading or writing a file failed.");
-sub_exception!(SimulationError, "SimulationError", PyRuntimeError, "The simulation diverged (non-finite values); the state was not advanced.");
+sub_exception!(
+    SimulationError,
+    "SimulationError",
+    PyRuntimeError,
+    "The simulation diverged (non-finite values); the state was not advanced."
+);
 sub_exception!(CancelledError, "CancelledError", PyException, "The operation was cancelled.");
 
 /// Converts a core error into the matching Python exception.

@@ -15,6 +15,7 @@
 pub mod error;
 pub mod mesh;
 pub mod pattern;
+pub mod scenes;
 pub mod solver;
 
 pub use error::{Result, TailorError};

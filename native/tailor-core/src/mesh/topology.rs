@@ -31,8 +31,9 @@ pub struct Topology {
 impl Topology {
     /// Derives edges and hinges; an edge with three or more triangles is an error.
     pub fn build(triangles: &[[u32; 3]], _rest: &[[f32; 2]]) -> Result<Self> {
-        // edge -> (first triangle, its opposite vertex, count, second triangle, its opposite)
-        let mut map: HashMap<(u32, u32), ([u32; 2], [u32; 2], usize)> = HashMap::with_capacity(triangles.len() * 2);
+        // edge -> (its first two triangles, their opposite vertices, how many triangles)
+        type EdgeUse = ([u32; 2], [u32; 2], usize);
+        let mut map: HashMap<(u32, u32), EdgeUse> = HashMap::with_capacity(triangles.len() * 2);
         let mut order = Vec::with_capacity(triangles.len() * 2);
         for (t, tri) in triangles.iter().enumerate() {
             for k in 0..3 {

@@ -1,1 +1,29 @@
-//! The cloth solver (filled in by the solver work of issue 2).
+//! The cloth solver: implicit Euler by Projective Dynamics (Bouaziz et al. 2014), solved
+//! Vivace-style (Fratarcangeli, Tibaldo and Pellacini 2016) on the CPU with rayon.
+//!
+//! Stages of a substep, in order (see [`simulation`]): prediction, then iterations of local
+//! (projections, [`local`]) and global (coloured Gauss-Seidel with Chebyshev, [`global`],
+//! [`colouring`], [`chebyshev`]) steps, then damping (velocities, friction, the seam-closing
+//! ramp, [`damping`]). [`reference`] and [`measures`] say how accurate a step is.
+
+pub mod chebyshev;
+pub mod colouring;
+pub mod constraints;
+pub mod contacts;
+pub mod damping;
+mod global;
+mod local;
+pub mod model;
+pub mod settings;
+pub mod simulation;
+pub mod soa;
+pub mod stats;
+pub mod system;
+
+pub use constraints::{Attachment, Seam, SeamPoint};
+pub use contacts::{ImplicitCollider, Shape};
+pub use damping::RampPhase;
+pub use settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings};
+pub use simulation::Simulation;
+pub use soa::Vec3Soa;
+pub use stats::{StageTimings, StepStats};

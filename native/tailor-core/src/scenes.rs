@@ -1,0 +1,86 @@
+//! Procedural scenes used by tests, benchmarks and the headless demo: flat rectangles and a
+//! tube of two rectangles sewn along both sides (the simplest real garment).
+
+use crate::error::Result;
+use crate::mesh::ClothMesh;
+use crate::solver::Seam;
+
+/// A rectangular grid in the pattern plane: `nx × ny` cells of `width × height` metres, the
+/// cells split along alternating diagonals so the mesh has no preferred shear direction.
+/// Returns rest coordinates (origin at the lower-left corner) and triangles (CCW).
+pub fn rectangle(width: f32, height: f32, nx: usize, ny: usize) -> (Vec<[f32; 2]>, Vec<[u32; 3]>) {
+    let mut rest = Vec::with_capacity((nx + 1) * (ny + 1));
+    for j in 0..=ny {
+        for i in 0..=nx {
+            rest.push([width * i as f32 / nx as f32, height * j as f32 / ny as f32]);
+        }
+    }
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut tris = Vec::with_capacity(2 * nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (i + j) % 2 == 0 {
+                tris.push([a, b, c]);
+                tris.push([a, c, d]);
+            } else {
+                tris.push([a, b, d]);
+                tris.push([b, c, d]);
+            }
+        }
+    }
+    (rest, tris)
+}
+
+/// Vertex indices of a rectangle grid's column `i` from bottom to top.
+pub fn grid_column(nx: usize, ny: usize, i: usize) -> Vec<u32> {
+    (0..=ny).map(|j| (j * (nx + 1) + i) as u32).collect()
+}
+
+/// A tube of two rectangular panels (front and back) sewn along both vertical sides.
+pub struct SewnTube {
+    pub mesh: ClothMesh,
+    pub seams: Vec<Seam>,
+    /// Vertices per panel.
+    pub panel_vertices: usize,
+}
+
+/// Builds a tube: two `width × height` panels with cells of about `edge` metres, hung
+/// vertically (z up) facing each other `gap` metres apart around the z axis, bottom at
+/// `bottom_z`. The front panel's left side is sewn to the back panel's left side, and the
+/// right sides likewise, so the seams start `gap` apart and close in simulation.
+pub fn sewn_tube(width: f32, height: f32, edge: f32, gap: f32, bottom_z: f32, seam_stiffness: f32) -> Result<SewnTube> {
+    let nx = ((width / edge).round() as usize).max(2);
+    let ny = ((height / edge).round() as usize).max(2);
+    let (rest, tris) = rectangle(width, height, nx, ny);
+    let nv = rest.len();
+    let mut positions = Vec::with_capacity(2 * nv);
+    let mut all_rest = Vec::with_capacity(2 * nv);
+    let mut triangles = Vec::with_capacity(2 * tris.len());
+    // Front panel at y = −gap/2, x from −w/2 to w/2; back panel mirrored at y = +gap/2, so that
+    // both panels' outside faces point away from the axis.
+    for (panel, side) in [(0u32, -1.0f32), (1, 1.0)] {
+        for r in &rest {
+            let x = if panel == 0 { r[0] - width / 2.0 } else { width / 2.0 - r[0] };
+            positions.push([x, side * gap / 2.0, bottom_z + r[1]]);
+            // Keep the pieces apart in the pattern plane too.
+            all_rest.push([r[0] + panel as f32 * (width + 0.1), r[1]]);
+        }
+        for t in &tris {
+            triangles.push(t.map(|v| v + panel * nv as u32));
+        }
+    }
+    let mesh = ClothMesh::new(positions, all_rest, triangles)?;
+    let left_front = grid_column(nx, ny, 0);
+    let right_front = grid_column(nx, ny, nx);
+    // The back panel is mirrored in x: its column nx sits at x = −w/2 (the left side).
+    let off = |c: Vec<u32>| c.into_iter().map(|v| v + nv as u32).collect::<Vec<_>>();
+    let left_back = off(grid_column(nx, ny, nx));
+    let right_back = off(grid_column(nx, ny, 0));
+    let bend = 1e-5;
+    let seams = vec![
+        Seam::one_to_one("left side", &left_front, &left_back, seam_stiffness, bend)?,
+        Seam::one_to_one("right side", &right_front, &right_back, seam_stiffness, bend)?,
+    ];
+    Ok(SewnTube { mesh, seams, panel_vertices: nv })
+}

@@ -1,0 +1,299 @@
+//! The simulated system: particles' masses, constraints, and what is derived from their topology
+//! (the global matrix, the colouring, the layout of right-hand-side contributions).
+//!
+//! Derived structures are rebuilt lazily, only when the constraint topology or weights change
+//! (seams, pins or attachments added, stiffness edited): never in the per-substep loop.
+
+use crate::error::{Result, TailorError};
+use crate::mesh::ClothMesh;
+
+use super::colouring::{colour_graph, Colouring};
+use super::constraints::bending::{hinge_weights, HingeTriangle};
+use super::constraints::seam::BoundaryEdges;
+use super::constraints::triangle::strain_coefficients;
+use super::constraints::{Attachment, Seam, StencilSet, TriangleSet};
+use super::settings::Fabric;
+use super::soa::Vec3Soa;
+use super::system::{SparseSym, SparseSym32};
+
+/// Where each constraint's right-hand-side contribution lands: triangles own slots `3t..3t+3`;
+/// stencils with a non-zero rest length ("curved": their projection is not constant) own one
+/// slot per term after those. Each particle sums its slots (compressed rows).
+#[derive(Debug, Clone, Default)]
+pub struct SlotLayout {
+    /// `(set, stencil)` of each curved stencil: set 0 = bending, 1 = seam hinges.
+    pub curved: Vec<(u8, u32)>,
+    pub curved_base: Vec<u32>,
+    pub total: usize,
+    pub particle_offsets: Vec<u32>,
+    pub particle_slots: Vec<u32>,
+}
+
+/// Everything about the system that is not the moving state.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub mesh: ClothMesh,
+    pub fabric: Fabric,
+    /// Lumped mass per particle before scaling: density × a third of adjacent rest areas, kg.
+    pub base_mass: Vec<f32>,
+    pub mass_scale: Vec<f32>,
+    pub mass: Vec<f32>,
+    pub triangles: TriangleSet,
+    pub bending: StencilSet,
+    pub seams: Vec<Seam>,
+    pub seam_pairs: StencilSet,
+    pub seam_hinges: StencilSet,
+    pub attachments: Vec<Attachment>,
+    pub pinned: Vec<bool>,
+    // Derived, rebuilt when `dirty`.
+    pub dirty: bool,
+    pub matrix: SparseSym,
+    pub matrix32: SparseSym32,
+    pub colouring: Colouring,
+    pub slots: SlotLayout,
+    pub b_const: Vec3Soa,
+}
+
+impl Model {
+    pub fn new(mesh: ClothMesh, fabric: Fabric) -> Result<Self> {
+        fabric.validate()?;
+        let n = mesh.num_vertices();
+        let mut base_mass = vec![0.0f64; n];
+        let mut triangles = TriangleSet::default();
+        let rest = mesh.rest();
+        let r = |v: u32| [rest[v as usize][0] as f64, rest[v as usize][1] as f64];
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            let area = mesh.rest_area(t);
+            let g = strain_coefficients(r(tri[0]), r(tri[1]), r(tri[2])).ok_or_else(|| {
+                TailorError::DegenerateTriangle { triangle: t, reason: "its rest shape is degenerate".into() }
+            })?;
+            triangles.verts.push(*tri);
+            triangles.g.push(g);
+            triangles.w_stretch.push((fabric.stretch as f64 * area) as f32);
+            triangles.w_shear.push((fabric.shear as f64 * area) as f32);
+            for &v in tri {
+                base_mass[v as usize] += fabric.density as f64 * area / 3.0;
+            }
+        }
+        let mut bending = StencilSet::default();
+        for h in &mesh.topology().hinges {
+            let [e0, e1, o0, o1] = h.vertices;
+            let t0 = HingeTriangle { e0: r(e0), e1: r(e1), o: r(o0) };
+            let t1 = HingeTriangle { e0: r(e0), e1: r(e1), o: r(o1) };
+            if let Some((k, area)) = hinge_weights(&t0, &t1) {
+                let terms = [(e0, k[0] as f32), (e1, k[1] as f32), (o0, k[2] as f32), (o1, k[3] as f32)];
+                bending.push(&terms, (3.0 * fabric.bend as f64 / area) as f32, 0.0);
+            }
+        }
+        let base_mass: Vec<f32> = base_mass.into_iter().map(|m| m as f32).collect();
+        for (i, &m) in base_mass.iter().enumerate() {
+            if !(m > 0.0 && m.is_finite()) {
+                // A vertex in no triangle has no area, hence no mass.
+                return Err(TailorError::InvalidMass { particle: i, mass: m });
+            }
+        }
+        Ok(Self {
+            mass: base_mass.clone(),
+            mass_scale: vec![1.0; n],
+            base_mass,
+            triangles,
+            bending,
+            seams: Vec::new(),
+            seam_pairs: StencilSet::default(),
+            seam_hinges: StencilSet::default(),
+            attachments: Vec::new(),
+            pinned: vec![false; n],
+            dirty: true,
+            matrix: SparseSym::default(),
+            matrix32: SparseSym32::default(),
+            colouring: Colouring::default(),
+            slots: SlotLayout::default(),
+            b_const: Vec3Soa::zeros(n),
+            mesh,
+            fabric,
+        })
+    }
+
+    pub fn n(&self) -> usize {
+        self.mass.len()
+    }
+
+    /// Scales each particle's mass (painted mass maps); scales must be positive and finite.
+    pub fn set_mass_scale(&mut self, scale: &[f32]) -> Result<()> {
+        if scale.len() != self.n() {
+            return Err(TailorError::shape("mass scale", format!("{} values for {} particles", scale.len(), self.n())));
+        }
+        for (i, &s) in scale.iter().enumerate() {
+            if !(s > 0.0 && s.is_finite()) {
+                return Err(TailorError::InvalidMass { particle: i, mass: s * self.base_mass[i] });
+            }
+        }
+        self.mass_scale.copy_from_slice(scale);
+        for ((m, &b), &s) in self.mass.iter_mut().zip(&self.base_mass).zip(scale) {
+            *m = b * s;
+        }
+        Ok(())
+    }
+
+    /// Per-triangle stretch and shear stiffness (N/m).
+    pub fn set_triangle_stiffness(&mut self, stretch: &[f32], shear: &[f32]) -> Result<()> {
+        let m = self.triangles.len();
+        if stretch.len() != m || shear.len() != m {
+            return Err(TailorError::shape(
+                "triangle stiffness",
+                format!("{} stretch and {} shear values for {m} triangles", stretch.len(), shear.len()),
+            ));
+        }
+        for t in 0..m {
+            for (name, k) in [("stretch", stretch[t]), ("shear", shear[t])] {
+                if !(k >= 0.0 && k.is_finite()) {
+                    return Err(TailorError::shape(
+                        "triangle stiffness",
+                        format!("triangle {t}: {name} {k} is invalid"),
+                    ));
+                }
+            }
+            let area = self.mesh.rest_area(t) as f32;
+            self.triangles.w_stretch[t] = stretch[t] * area;
+            self.triangles.w_shear[t] = shear[t] * area;
+        }
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Bending rest shape from a 3D pose (keeps creases and pre-shaped folds); `None` = flat.
+    pub fn set_bending_rest(&mut self, pose: Option<&Vec3Soa>) {
+        match pose {
+            Some(p) => {
+                self.bending.set_rest_from(p);
+                self.seam_hinges.set_rest_from(p);
+            }
+            None => {
+                self.bending.rest.iter_mut().for_each(|r| *r = 0.0);
+                self.seam_hinges.rest.iter_mut().for_each(|r| *r = 0.0);
+            }
+        }
+        self.dirty = true;
+    }
+
+    /// Adds a seam (validated against this mesh). Returns the number of hinges it created.
+    pub fn add_seam(&mut self, seam: Seam) -> Result<usize> {
+        seam.validate(self.n())?;
+        seam.push_pairs(&mut self.seam_pairs);
+        let boundary = BoundaryEdges::new(&self.mesh);
+        let hinges = seam.push_hinges(&self.mesh, &boundary, &mut self.seam_hinges);
+        self.seams.push(seam);
+        self.dirty = true;
+        Ok(hinges)
+    }
+
+    pub fn add_attachment(&mut self, a: Attachment) -> Result<()> {
+        let n = self.n();
+        if a.particle as usize >= n {
+            return Err(TailorError::index("attachment", a.particle as i64, n, "particles"));
+        }
+        if !(a.weight > 0.0 && a.weight.is_finite()) || a.target.iter().any(|c| !c.is_finite()) {
+            return Err(TailorError::shape(
+                "attachment",
+                format!(
+                    "particle {}: weight {} and target {:?} must be finite (weight > 0)",
+                    a.particle, a.weight, a.target
+                ),
+            ));
+        }
+        self.attachments.push(a);
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Updates attachment targets without touching the matrix (animated attachments).
+    pub fn set_attachment_targets(&mut self, targets: &[[f32; 3]]) -> Result<()> {
+        if targets.len() != self.attachments.len() {
+            return Err(TailorError::shape(
+                "attachment targets",
+                format!("{} targets for {} attachments", targets.len(), self.attachments.len()),
+            ));
+        }
+        crate::mesh::check_finite3("attachment targets", targets)?;
+        for (a, t) in self.attachments.iter_mut().zip(targets) {
+            a.target = *t;
+        }
+        self.update_b_const();
+        Ok(())
+    }
+
+    fn update_b_const(&mut self) {
+        self.b_const = Vec3Soa::zeros(self.n());
+        for a in &self.attachments {
+            let i = a.particle as usize;
+            let t = glam::Vec3::from(a.target) * a.weight;
+            self.b_const.set(i, self.b_const.get(i) + t);
+        }
+    }
+
+    /// Rebuilds the matrix, colouring and slot layout if anything changed.
+    pub fn rebuild_if_dirty(&mut self, seed: u64) {
+        if !self.dirty {
+            return;
+        }
+        let n = self.n();
+        self.matrix = SparseSym::assemble(
+            n,
+            &self.triangles,
+            &[&self.bending, &self.seam_pairs, &self.seam_hinges],
+            &self.attachments,
+        );
+        self.matrix32 = self.matrix.to_f32();
+        let mut colouring = colour_graph(&self.matrix.offsets, &self.matrix.cols, seed);
+        // Pinned particles are not unknowns: drop them from the sweep.
+        for g in &mut colouring.groups {
+            g.retain(|&i| !self.pinned[i as usize]);
+        }
+        colouring.groups.retain(|g| !g.is_empty());
+        self.colouring = colouring;
+        self.slots = self.slot_layout();
+        self.update_b_const();
+        self.dirty = false;
+    }
+
+    fn slot_layout(&self) -> SlotLayout {
+        let n = self.n();
+        let mut curved = Vec::new();
+        let mut curved_base = Vec::new();
+        let mut total = 3 * self.triangles.len();
+        for (set_id, set) in [(0u8, &self.bending), (1u8, &self.seam_hinges)] {
+            for s in 0..set.len() {
+                if set.rest[s] != 0.0 {
+                    curved.push((set_id, s as u32));
+                    curved_base.push(total as u32);
+                    total += set.range(s).len();
+                }
+            }
+        }
+        // Owner particle of every slot, then compressed rows by particle.
+        let mut owner = vec![0u32; total];
+        for (t, v) in self.triangles.verts.iter().enumerate() {
+            owner[3 * t..3 * t + 3].copy_from_slice(v);
+        }
+        for (c, &(set_id, s)) in curved.iter().enumerate() {
+            let set = if set_id == 0 { &self.bending } else { &self.seam_hinges };
+            for (k, t) in set.range(s as usize).enumerate() {
+                owner[curved_base[c] as usize + k] = set.verts[t];
+            }
+        }
+        let mut particle_offsets = vec![0u32; n + 1];
+        for &o in &owner {
+            particle_offsets[o as usize + 1] += 1;
+        }
+        for i in 0..n {
+            particle_offsets[i + 1] += particle_offsets[i];
+        }
+        let mut fill = particle_offsets.clone();
+        let mut particle_slots = vec![0u32; total];
+        for (slot, &o) in owner.iter().enumerate() {
+            particle_slots[fill[o as usize] as usize] = slot as u32;
+            fill[o as usize] += 1;
+        }
+        SlotLayout { curved, curved_base, total, particle_offsets, particle_slots }
+    }
+}

@@ -1,0 +1,198 @@
+//! Solver settings and fabric parameters, with validation.
+//!
+//! Units: metres, kilograms, seconds. Stretch and shear stiffness are membrane stiffnesses in
+//! N/m (energy per unit rest area per unit strain²); bending stiffness is in N·m (J); seam
+//! stiffness is a spring constant in N/m per sewn pair; air damping is a rate in 1/s.
+
+use crate::error::{Result, TailorError};
+
+/// The global-step method (the real-time path uses [`Method::Chebyshev`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Jacobi iterations (parallel, order independent), under-relaxed by `jacobi_relaxation`.
+    Jacobi,
+    /// Gauss-Seidel over the graph colouring, parallel within a colour (Vivace).
+    GaussSeidel,
+    /// Gauss-Seidel accelerated by Chebyshev semi-iteration (Wang 2015), the default.
+    Chebyshev,
+}
+
+/// Per-material parameters, applied to every triangle/hinge unless overridden per element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fabric {
+    /// Area density, kg/m² (cotton shirting is about 0.1-0.2).
+    pub density: f32,
+    /// Stretch stiffness along the pattern's warp and weft axes, N/m.
+    pub stretch: f32,
+    /// Shear stiffness (resistance to the warp and weft axes losing orthogonality), N/m.
+    pub shear: f32,
+    /// Bending stiffness of the quadratic hinge model, N·m.
+    pub bend: f32,
+}
+
+impl Default for Fabric {
+    fn default() -> Self {
+        Self { density: 0.15, stretch: 600.0, shear: 60.0, bend: 2e-5 }
+    }
+}
+
+impl Fabric {
+    pub fn validate(&self) -> Result<()> {
+        positive("fabric.density", self.density)?;
+        non_negative("fabric.stretch", self.stretch)?;
+        non_negative("fabric.shear", self.shear)?;
+        non_negative("fabric.bend", self.bend)?;
+        if self.stretch + self.shear <= 0.0 {
+            return Err(TailorError::setting("fabric.stretch", self.stretch, "stretch + shear must be positive"));
+        }
+        Ok(())
+    }
+}
+
+/// The seam-closing damping ramp of the paper (section 4, "Seam simulation").
+///
+/// While fewer than `closed_fraction` of the seam pairs are within `gap_threshold`, air damping
+/// is raised to `closing_damping`; once that many have met, damping returns linearly to the
+/// base value over `release_time` seconds and stays there (until seams are added again).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SeamRamp {
+    pub enabled: bool,
+    /// Air damping while seams close, 1/s.
+    pub closing_damping: f32,
+    /// A pair counts as met when its gap is under this, metres.
+    pub gap_threshold: f32,
+    /// Fraction of pairs that must have met to start the release, 0..=1.
+    pub closed_fraction: f32,
+    /// Duration of the linear return to the base damping, seconds.
+    pub release_time: f32,
+}
+
+impl Default for SeamRamp {
+    fn default() -> Self {
+        Self { enabled: true, closing_damping: 12.0, gap_threshold: 2e-3, closed_fraction: 0.95, release_time: 0.5 }
+    }
+}
+
+/// Chebyshev acceleration parameters (see `chebyshev.rs` for the spectral-radius rule).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChebyshevSettings {
+    /// Plain Gauss-Seidel iterations at the start of each substep before acceleration starts;
+    /// they also measure the spectral radius. At least 3.
+    pub delay: u32,
+    /// A fixed spectral radius; `None` estimates it automatically.
+    pub rho: Option<f32>,
+    /// Factor applied to the estimated radius (under-estimating is safe, over-estimating is not).
+    pub safety: f32,
+    /// Upper clamp of the radius used.
+    pub max_rho: f32,
+}
+
+impl Default for ChebyshevSettings {
+    fn default() -> Self {
+        Self { delay: 4, rho: None, safety: 1.0, max_rho: 0.995 }
+    }
+}
+
+/// Everything that controls a step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverSettings {
+    /// Substeps per call to `step(dt)`.
+    pub substeps: u32,
+    /// Local/global iterations per substep (the maximum when `tolerance` stops early).
+    pub iterations: u32,
+    /// Stop a substep's iterations when the relative residual falls under this (0 disables).
+    pub tolerance: f32,
+    pub method: Method,
+    /// Gravity, m/s².
+    pub gravity: [f32; 3],
+    /// Base air damping, 1/s (velocities decay as exp(-damping · t)).
+    pub air_damping: f32,
+    pub ramp: SeamRamp,
+    pub chebyshev: ChebyshevSettings,
+    /// Under-relaxation of [`Method::Jacobi`] (plain Jacobi need not converge on bending stencils).
+    pub jacobi_relaxation: f32,
+    /// Seed of the randomized graph colouring (the result is deterministic for a seed).
+    pub colouring_seed: u64,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self {
+            substeps: 4,
+            iterations: 20,
+            tolerance: 0.0,
+            method: Method::Chebyshev,
+            gravity: [0.0, 0.0, -9.81],
+            air_damping: 0.2,
+            ramp: SeamRamp::default(),
+            chebyshev: ChebyshevSettings::default(),
+            jacobi_relaxation: 0.66,
+            colouring_seed: 0x7a11_0c0d,
+        }
+    }
+}
+
+impl SolverSettings {
+    pub fn validate(&self) -> Result<()> {
+        if self.substeps == 0 {
+            return Err(TailorError::setting("substeps", self.substeps, "must be at least 1"));
+        }
+        if self.iterations == 0 {
+            return Err(TailorError::setting("iterations", self.iterations, "must be at least 1"));
+        }
+        non_negative("tolerance", self.tolerance)?;
+        for g in self.gravity {
+            finite("gravity", g)?;
+        }
+        non_negative("air_damping", self.air_damping)?;
+        non_negative("ramp.closing_damping", self.ramp.closing_damping)?;
+        non_negative("ramp.gap_threshold", self.ramp.gap_threshold)?;
+        non_negative("ramp.release_time", self.ramp.release_time)?;
+        if !(0.0..=1.0).contains(&self.ramp.closed_fraction) {
+            return Err(TailorError::setting("ramp.closed_fraction", self.ramp.closed_fraction, "must be in 0..=1"));
+        }
+        if self.chebyshev.delay < 3 {
+            return Err(TailorError::setting("chebyshev.delay", self.chebyshev.delay, "must be at least 3"));
+        }
+        if let Some(r) = self.chebyshev.rho {
+            if !(0.0..1.0).contains(&r) {
+                return Err(TailorError::setting("chebyshev.rho", r, "must be in [0, 1)"));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.chebyshev.safety) || !(0.0..1.0).contains(&self.chebyshev.max_rho) {
+            return Err(TailorError::setting(
+                "chebyshev.safety",
+                self.chebyshev.safety,
+                "safety in 0..=1, max_rho < 1",
+            ));
+        }
+        if !(self.jacobi_relaxation > 0.0 && self.jacobi_relaxation <= 1.0) {
+            return Err(TailorError::setting("jacobi_relaxation", self.jacobi_relaxation, "must be in (0, 1]"));
+        }
+        Ok(())
+    }
+}
+
+fn finite(name: &'static str, v: f32) -> Result<()> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(TailorError::setting(name, v, "must be finite"))
+    }
+}
+
+pub(crate) fn non_negative(name: &'static str, v: f32) -> Result<()> {
+    finite(name, v)?;
+    if v < 0.0 {
+        return Err(TailorError::setting(name, v, "must not be negative"));
+    }
+    Ok(())
+}
+
+pub(crate) fn positive(name: &'static str, v: f32) -> Result<()> {
+    finite(name, v)?;
+    if v <= 0.0 {
+        return Err(TailorError::setting(name, v, "must be positive"));
+    }
+    Ok(())
+}

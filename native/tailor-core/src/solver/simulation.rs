@@ -1,0 +1,482 @@
+//! A running simulation: the model, the moving state, and the step.
+//!
+//! Each substep of length `h` runs these stages in order (timed separately):
+//!
+//! 1. **prediction**: `y = x + h·v + h²·g`, pinned particles at their targets, the initial
+//!    guess `x = y`, and the fixed right-hand side `M/h²·y + b_const`;
+//! 2. per iteration, **local**: contacts against colliders and constraint projections;
+//!    **global**: one Gauss-Seidel sweep over the colouring (or Jacobi), then Chebyshev
+//!    extrapolation; optional early stop on the relative residual;
+//! 3. **damping**: remaining penetrations resolved, `v = (x − x₀)/h`, Coulomb friction on
+//!    contacts, air damping `exp(−c·h)` with `c` from the seam-closing ramp.
+//!
+//! A step whose result is not finite is rolled back and reported as an error.
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+use crate::error::{Result, TailorError};
+use crate::mesh::{check_finite3, ClothMesh};
+
+use super::chebyshev::Chebyshev;
+use super::constraints::{Attachment, Seam};
+use super::contacts::{coulomb, resolve_penetrations, ContactSet, ImplicitCollider};
+use super::damping::{decay, Ramp};
+use super::global::{extrapolate, GlobalSystem, SweepNorms};
+use super::local::project_all;
+use super::model::Model;
+use super::settings::{Fabric, Method, SolverSettings};
+use super::soa::Vec3Soa;
+use super::stats::{StageTimings, StepStats};
+
+/// Power-iteration sweeps that measure Chebyshev's spectral radius (see `chebyshev.rs`).
+const RHO_SWEEPS: u32 = 60;
+
+/// A cloth simulation.
+pub struct Simulation {
+    pub(crate) model: Model,
+    pub(crate) settings: SolverSettings,
+    colliders: Vec<ImplicitCollider>,
+    thickness: f32,
+    pub(crate) x: Vec3Soa,
+    v: Vec3Soa,
+    x_start: Vec3Soa,
+    pub(crate) y: Vec3Soa,
+    x_prev_iter: Vec3Soa,
+    x_this_iter: Vec3Soa,
+    pub(crate) rhs_fixed: Vec3Soa,
+    pub(crate) diag: Vec<f32>,
+    pub(crate) slots: Vec<Vec3>,
+    pub(crate) contacts: ContactSet,
+    pin_target: Vec3Soa,
+    ramp: Ramp,
+    cheb: Chebyshev,
+    free: Vec<u32>,
+    h_prepared: f32,
+    time: f64,
+}
+
+/// Outcome of one substep's iterations.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct IterationOutcome {
+    pub iterations: u32,
+    pub residual: f32,
+    pub rho: f32,
+}
+
+impl Simulation {
+    /// Creates a simulation of `mesh` made of `fabric`.
+    pub fn new(mesh: ClothMesh, fabric: Fabric, settings: SolverSettings) -> Result<Self> {
+        settings.validate()?;
+        let x = Vec3Soa::from_aos(mesh.positions());
+        let n = x.len();
+        let model = Model::new(mesh, fabric)?;
+        let mut contacts = ContactSet::default();
+        contacts.resize(n);
+        Ok(Self {
+            model,
+            settings,
+            colliders: Vec::new(),
+            thickness: 0.003,
+            v: Vec3Soa::zeros(n),
+            x_start: x.clone(),
+            y: x.clone(),
+            x_prev_iter: x.clone(),
+            x_this_iter: x.clone(),
+            rhs_fixed: Vec3Soa::zeros(n),
+            diag: vec![0.0; n],
+            slots: Vec::new(),
+            contacts,
+            pin_target: x.clone(),
+            x,
+            ramp: Ramp::default(),
+            cheb: Chebyshev::default(),
+            free: Vec::new(),
+            h_prepared: 0.0,
+            time: 0.0,
+        })
+    }
+
+    pub fn num_particles(&self) -> usize {
+        self.x.len()
+    }
+    pub fn positions(&self) -> &Vec3Soa {
+        &self.x
+    }
+    pub fn velocities(&self) -> &Vec3Soa {
+        &self.v
+    }
+    pub fn masses(&self) -> &[f32] {
+        &self.model.mass
+    }
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Replaces the settings (validated first; nothing changes on error).
+    pub fn set_settings(&mut self, settings: SolverSettings) -> Result<()> {
+        settings.validate()?;
+        if settings.colouring_seed != self.settings.colouring_seed {
+            self.model.dirty = true;
+        }
+        self.settings = settings;
+        self.h_prepared = 0.0;
+        Ok(())
+    }
+
+    /// Sets positions (for example after the artist moved a piece); finite values only.
+    pub fn set_positions(&mut self, p: &[[f32; 3]]) -> Result<()> {
+        self.check_len("positions", p.len())?;
+        check_finite3("positions", p)?;
+        self.x = Vec3Soa::from_aos(p);
+        Ok(())
+    }
+
+    pub fn set_velocities(&mut self, v: &[[f32; 3]]) -> Result<()> {
+        self.check_len("velocities", v.len())?;
+        check_finite3("velocities", v)?;
+        self.v = Vec3Soa::from_aos(v);
+        Ok(())
+    }
+
+    fn check_len(&self, what: &str, len: usize) -> Result<()> {
+        if len != self.num_particles() {
+            return Err(TailorError::shape(what, format!("{len} values for {} particles", self.num_particles())));
+        }
+        Ok(())
+    }
+
+    pub fn set_mass_scale(&mut self, scale: &[f32]) -> Result<()> {
+        self.model.set_mass_scale(scale)?;
+        self.h_prepared = 0.0;
+        Ok(())
+    }
+
+    pub fn set_triangle_stiffness(&mut self, stretch: &[f32], shear: &[f32]) -> Result<()> {
+        self.model.set_triangle_stiffness(stretch, shear)
+    }
+
+    /// Takes the bending rest shape from a pose (creases are kept), or flat with `None`.
+    pub fn set_bending_rest_pose(&mut self, pose: Option<&[[f32; 3]]>) -> Result<()> {
+        match pose {
+            Some(p) => {
+                self.check_len("bending rest pose", p.len())?;
+                check_finite3("bending rest pose", p)?;
+                self.model.set_bending_rest(Some(&Vec3Soa::from_aos(p)));
+            }
+            None => self.model.set_bending_rest(None),
+        }
+        Ok(())
+    }
+
+    /// Adds a seam; the seam-closing ramp starts again. Returns the hinges created.
+    pub fn add_seam(&mut self, seam: Seam) -> Result<usize> {
+        let hinges = self.model.add_seam(seam)?;
+        self.ramp = Ramp::default();
+        Ok(hinges)
+    }
+
+    pub fn add_attachment(&mut self, a: Attachment) -> Result<()> {
+        self.model.add_attachment(a)
+    }
+
+    pub fn set_attachment_targets(&mut self, targets: &[[f32; 3]]) -> Result<()> {
+        self.model.set_attachment_targets(targets)
+    }
+
+    /// Pins particles (hard): at `targets`, or where they are now.
+    pub fn pin(&mut self, particles: &[u32], targets: Option<&[[f32; 3]]>) -> Result<()> {
+        let n = self.num_particles();
+        if let Some(t) = targets {
+            if t.len() != particles.len() {
+                return Err(TailorError::shape(
+                    "pin",
+                    format!("{} targets for {} particles", t.len(), particles.len()),
+                ));
+            }
+            check_finite3("pin targets", t)?;
+        }
+        if let Some(&bad) = particles.iter().find(|&&p| p as usize >= n) {
+            return Err(TailorError::index("pin", bad as i64, n, "particles"));
+        }
+        for (k, &p) in particles.iter().enumerate() {
+            let target = targets.map(|t| Vec3::from(t[k])).unwrap_or_else(|| self.x.get(p as usize));
+            self.pin_target.set(p as usize, target);
+            if !self.model.pinned[p as usize] {
+                self.model.pinned[p as usize] = true;
+                self.model.dirty = true;
+            }
+        }
+        Ok(())
+    }
+
+    pub fn unpin(&mut self, particles: &[u32]) -> Result<()> {
+        let n = self.num_particles();
+        if let Some(&bad) = particles.iter().find(|&&p| p as usize >= n) {
+            return Err(TailorError::index("unpin", bad as i64, n, "particles"));
+        }
+        for &p in particles {
+            if self.model.pinned[p as usize] {
+                self.model.pinned[p as usize] = false;
+                self.model.dirty = true;
+            }
+        }
+        Ok(())
+    }
+
+    pub fn add_collider(&mut self, c: ImplicitCollider) -> Result<()> {
+        for (name, v) in [("static_friction", c.static_friction), ("kinetic_friction", c.kinetic_friction)] {
+            super::settings::non_negative(name, v)?;
+        }
+        self.colliders.push(c);
+        Ok(())
+    }
+
+    /// Collision thickness: particles are kept this far outside colliders, metres.
+    pub fn set_thickness(&mut self, t: f32) -> Result<()> {
+        super::settings::non_negative("thickness", t)?;
+        self.thickness = t;
+        Ok(())
+    }
+
+    /// Number of colours of the particle graph (after the next rebuild).
+    pub fn colour_count(&mut self) -> usize {
+        self.prepare(self.h_prepared.max(1e-3));
+        self.model.colouring.count()
+    }
+
+    /// Advances by `dt` seconds in `settings.substeps` substeps.
+    pub fn step(&mut self, dt: f32) -> Result<StepStats> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(TailorError::setting("dt", dt, "the time step must be positive and finite"));
+        }
+        let backup = (self.x.clone(), self.v.clone(), self.ramp.clone(), self.time);
+        let substeps = self.settings.substeps;
+        let h = dt / substeps as f32;
+        let mut stats = StepStats { substeps, ..Default::default() };
+        for _ in 0..substeps {
+            let (out, t) = self.substep(h);
+            stats.iterations += out.iterations;
+            stats.residual = out.residual;
+            stats.rho = out.rho;
+            stats.timings.add(&t);
+        }
+        if !self.x.all_finite() || !self.v.all_finite() {
+            (self.x, self.v, self.ramp, self.time) = backup;
+            return Err(TailorError::Diverged {
+                reason: "positions became non-finite; the state was rolled back (lower the time step or \
+                         stiffness, or raise substeps)"
+                    .into(),
+            });
+        }
+        let (gap, frac) = self.seam_gaps();
+        stats.seam_gap_max = gap;
+        stats.seam_closed_fraction = frac;
+        stats.colours = self.model.colouring.count();
+        stats.damping = self.ramp.damping(&self.settings);
+        stats.ramp_phase = self.ramp.phase;
+        stats.contacts = self.contacts.count();
+        Ok(stats)
+    }
+
+    /// Largest sewn-pair gap (m) and fraction of pairs under the ramp's gap threshold.
+    pub fn seam_gaps(&self) -> (f32, f32) {
+        let set = &self.model.seam_pairs;
+        if set.is_empty() {
+            return (0.0, 1.0);
+        }
+        let thr = self.settings.ramp.gap_threshold;
+        let mut max = 0.0f32;
+        let mut closed = 0usize;
+        for s in 0..set.len() {
+            let g = set.vector(s, &self.x).length();
+            max = max.max(g);
+            closed += (g < thr) as usize;
+        }
+        (max, closed as f32 / set.len() as f32)
+    }
+
+    /// FNV-1a hash of the position bits (determinism tests).
+    pub fn state_hash(&self) -> u64 {
+        let mut h = 0xcbf2_9ce4_8422_2325u64;
+        for v in self.x.x.iter().chain(&self.x.y).chain(&self.x.z) {
+            for b in v.to_bits().to_le_bytes() {
+                h = (h ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+            }
+        }
+        h
+    }
+
+    /// Rebuilds derived structures and per-`h` quantities when needed.
+    pub(crate) fn prepare(&mut self, h: f32) {
+        let rebuilt = self.model.dirty;
+        self.model.rebuild_if_dirty(self.settings.colouring_seed);
+        if rebuilt || h != self.h_prepared {
+            let inv_h2 = 1.0 / (h * h);
+            let m = &self.model;
+            self.diag = (0..m.n()).map(|i| m.mass[i] * inv_h2 + m.matrix32.diag[i]).collect();
+            self.slots = vec![Vec3::ZERO; m.slots.total];
+            self.free = m.colouring.groups.iter().flatten().copied().collect();
+            self.free.sort_unstable();
+            self.h_prepared = h;
+            if self.settings.method == Method::Chebyshev && self.settings.chebyshev.rho.is_none() {
+                let m = &self.model;
+                self.cheb.rho_gs = Some(super::chebyshev::spectral_radius_gs(
+                    &m.matrix32,
+                    &self.diag,
+                    &m.colouring.groups,
+                    RHO_SWEEPS,
+                ));
+            }
+        }
+    }
+
+    /// Prediction stage: `y`, pins, initial guess, fixed right-hand side.
+    pub(crate) fn predict(&mut self, h: f32) {
+        let g = Vec3::from(self.settings.gravity);
+        let inv_h2 = 1.0 / (h * h);
+        self.x_start.copy_from(&self.x);
+        for i in 0..self.num_particles() {
+            let y = if self.model.pinned[i] {
+                self.pin_target.get(i)
+            } else {
+                self.x.get(i) + self.v.get(i) * h + g * (h * h)
+            };
+            self.y.set(i, y);
+            self.x.set(i, y);
+            let r = y * (self.model.mass[i] * inv_h2) + self.model.b_const.get(i);
+            self.rhs_fixed.set(i, r);
+        }
+    }
+
+    fn global_system(&self) -> GlobalSystem<'_> {
+        GlobalSystem {
+            matrix: &self.model.matrix32,
+            diag: &self.diag,
+            rhs_fixed: &self.rhs_fixed,
+            slots: &self.slots,
+            slot_offsets: &self.model.slots.particle_offsets,
+            slot_index: &self.model.slots.particle_slots,
+            contact_weight: &self.contacts.weight,
+            contact_target: &self.contacts.target,
+        }
+    }
+
+    /// Local/global iterations of one substep. `detect` re-detects contacts every iteration;
+    /// `observe(k, x)` is called after each iteration (used by the error measures).
+    pub(crate) fn iterate(
+        &mut self,
+        method: Method,
+        max_iterations: u32,
+        tolerance: f32,
+        detect: bool,
+        timings: &mut StageTimings,
+        mut observe: impl FnMut(u32, &Vec3Soa),
+    ) -> IterationOutcome {
+        self.cheb.begin_substep();
+        self.x_prev_iter.copy_from(&self.x);
+        let mut out = IterationOutcome::default();
+        let mut r0 = 0.0f64;
+        for k in 0..max_iterations {
+            let t0 = Instant::now();
+            if detect {
+                if self.colliders.is_empty() {
+                    self.contacts.clear();
+                } else {
+                    self.contacts.detect(&self.colliders, self.thickness, &self.x, &self.diag, &self.model.pinned);
+                }
+            }
+            let mut slots = std::mem::take(&mut self.slots);
+            project_all(&self.model, &self.x, &mut slots);
+            self.slots = slots;
+            let t1 = Instant::now();
+            let norms: SweepNorms = match method {
+                Method::Jacobi => {
+                    self.x_this_iter.copy_from(&self.x);
+                    let mut x = std::mem::take(&mut self.x);
+                    let n = self.global_system().jacobi(
+                        &self.free,
+                        &self.x_this_iter,
+                        &mut x,
+                        self.settings.jacobi_relaxation,
+                    );
+                    self.x = x;
+                    n
+                }
+                Method::GaussSeidel | Method::Chebyshev => {
+                    self.x_this_iter.copy_from(&self.x);
+                    let mut x = std::mem::take(&mut self.x);
+                    let n = self.global_system().gauss_seidel(&self.model.colouring.groups, &mut x);
+                    self.x = x;
+                    if method == Method::Chebyshev {
+                        let omega = self.cheb.omega(k, n.update2.sqrt() as f32, &self.settings.chebyshev);
+                        out.rho = self.cheb.rho(&self.settings.chebyshev);
+                        if omega != 1.0 {
+                            extrapolate(&mut self.x, &self.x_prev_iter, omega);
+                        }
+                        std::mem::swap(&mut self.x_prev_iter, &mut self.x_this_iter);
+                    }
+                    n
+                }
+            };
+            timings.local += (t1 - t0).as_secs_f64();
+            timings.global += t1.elapsed().as_secs_f64();
+            if k == 0 {
+                r0 = norms.residual2.sqrt().max(1e-30);
+            }
+            out.iterations = k + 1;
+            out.residual = (norms.residual2.sqrt() / r0) as f32;
+            observe(k, &self.x);
+            if tolerance > 0.0 && k > 0 && out.residual < tolerance {
+                break;
+            }
+        }
+        out
+    }
+
+    /// One substep of length `h`.
+    fn substep(&mut self, h: f32) -> (IterationOutcome, StageTimings) {
+        let mut t = StageTimings::default();
+        let t0 = Instant::now();
+        self.prepare(h);
+        self.predict(h);
+        t.prediction = t0.elapsed().as_secs_f64();
+        let (method, iters, tol) = (self.settings.method, self.settings.iterations, self.settings.tolerance);
+        let out = self.iterate(method, iters, tol, true, &mut t, |_, _| {});
+        let t2 = Instant::now();
+        self.finish_substep(h);
+        t.damping = t2.elapsed().as_secs_f64();
+        (out, t)
+    }
+
+    /// Damping stage: penetrations, velocities, friction, air damping, ramp.
+    fn finish_substep(&mut self, h: f32) {
+        if !self.colliders.is_empty() {
+            resolve_penetrations(&self.colliders, self.thickness, &mut self.x, &self.model.pinned);
+        }
+        let inv_h = 1.0 / h;
+        let damping = decay(self.ramp.damping(&self.settings), h);
+        for i in 0..self.num_particles() {
+            let mut v = (self.x.get(i) - self.x_start.get(i)) * inv_h;
+            let c = self.contacts.collider[i];
+            if c != u32::MAX {
+                let col = &self.colliders[c as usize];
+                let n = self.contacts.normal.get(i);
+                let v_pred = (self.y.get(i) - self.x_start.get(i)) * inv_h;
+                let dvn = (v - v_pred).dot(n).max(0.0);
+                v = coulomb(v, n, dvn, col.static_friction, col.kinetic_friction);
+            }
+            self.v.set(i, v * damping);
+        }
+        let (_, frac) = self.seam_gaps();
+        self.ramp.advance(&self.settings, frac, !self.model.seam_pairs.is_empty(), h);
+        self.time += h as f64;
+    }
+}

@@ -1,0 +1,107 @@
+//! The constant part of the global matrix, `L = Σ w·AᵀA`.
+//!
+//! Every constraint maps positions to vectors by scalar coefficients, so `L` is an `n×n` scalar
+//! matrix shared by the x, y and z systems. The global step solves
+//! `(M/h² + L + C) x = M/h²·y + b_const + Σ w·Aᵀp` where `C` is the diagonal of this substep's
+//! contact weights. `L` is assembled once per topology change (in f64, for the reference
+//! solver) and kept in f32 rows for the real-time sweep. Its off-diagonal pattern is the graph
+//! the colouring separates.
+
+use super::constraints::{Attachment, StencilSet, TriangleSet};
+
+/// Symmetric sparse matrix: diagonal plus off-diagonal entries by row (both triangles stored).
+#[derive(Debug, Clone, Default)]
+pub struct SparseSym {
+    pub diag: Vec<f64>,
+    pub offsets: Vec<u32>,
+    pub cols: Vec<u32>,
+    pub vals: Vec<f64>,
+}
+
+/// The same matrix in f32 for the real-time sweep.
+#[derive(Debug, Clone, Default)]
+pub struct SparseSym32 {
+    pub diag: Vec<f32>,
+    pub offsets: Vec<u32>,
+    pub cols: Vec<u32>,
+    pub vals: Vec<f32>,
+}
+
+impl SparseSym {
+    pub fn n(&self) -> usize {
+        self.diag.len()
+    }
+
+    pub fn row(&self, i: usize) -> std::ops::Range<usize> {
+        self.offsets[i] as usize..self.offsets[i + 1] as usize
+    }
+
+    /// Assembles `L` from the constraints.
+    pub fn assemble(n: usize, tris: &TriangleSet, stencils: &[&StencilSet], attachments: &[Attachment]) -> Self {
+        let mut trip: Vec<(u32, u32, f64)> = Vec::new();
+        let mut diag = vec![0.0f64; n];
+        for t in 0..tris.len() {
+            let w = (tris.w_stretch[t] + tris.w_shear[t]) as f64;
+            let g = &tris.g[t];
+            let v = tris.verts[t];
+            for k in 0..3 {
+                for l in 0..3 {
+                    let c = w * (g[k][0] as f64 * g[l][0] as f64 + g[k][1] as f64 * g[l][1] as f64);
+                    if k == l {
+                        diag[v[k] as usize] += c;
+                    } else {
+                        trip.push((v[k], v[l], c));
+                    }
+                }
+            }
+        }
+        for set in stencils {
+            for s in 0..set.len() {
+                let w = set.weights[s] as f64;
+                let r = set.range(s);
+                for a in r.clone() {
+                    for b in r.clone() {
+                        let c = w * set.coefs[a] as f64 * set.coefs[b] as f64;
+                        if a == b {
+                            diag[set.verts[a] as usize] += c;
+                        } else {
+                            trip.push((set.verts[a], set.verts[b], c));
+                        }
+                    }
+                }
+            }
+        }
+        for att in attachments {
+            diag[att.particle as usize] += att.weight as f64;
+        }
+        trip.sort_unstable_by_key(|&(i, j, _)| ((i as u64) << 32) | j as u64);
+        let mut offsets = vec![0u32; n + 1];
+        let mut cols = Vec::with_capacity(trip.len() / 2);
+        let mut vals = Vec::with_capacity(trip.len() / 2);
+        let mut k = 0;
+        while k < trip.len() {
+            let (i, j, mut v) = trip[k];
+            k += 1;
+            while k < trip.len() && trip[k].0 == i && trip[k].1 == j {
+                v += trip[k].2;
+                k += 1;
+            }
+            cols.push(j);
+            vals.push(v);
+            offsets[i as usize + 1] += 1;
+        }
+        for i in 0..n {
+            offsets[i + 1] += offsets[i];
+        }
+        Self { diag, offsets, cols, vals }
+    }
+
+    pub fn to_f32(&self) -> SparseSym32 {
+        SparseSym32 {
+            diag: self.diag.iter().map(|&v| v as f32).collect(),
+            offsets: self.offsets.clone(),
+            cols: self.cols.clone(),
+            vals: self.vals.iter().map(|&v| v as f32).collect(),
+        }
+    }
+}

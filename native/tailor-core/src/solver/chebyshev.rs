@@ -45,7 +45,7 @@ impl Chebyshev {
 
     /// Returns the ω for iteration `k` whose sweep moved particles by `delta` (1 = none).
     pub fn omega(&mut self, k: u32, delta: f32, s: &ChebyshevSettings) -> f32 {
-        let grew = self.started && delta > 2.0 * self.last_delta;
+        let grew = self.started && delta > self.last_delta;
         self.last_delta = delta;
         let rho = self.rho(s);
         if k < s.delay || rho <= 0.0 || grew {

@@ -7,13 +7,17 @@
 //! ramp, [`damping`]). [`reference`] and [`measures`] say how accurate a step is.
 
 pub mod chebyshev;
+mod cholesky;
 pub mod colouring;
 pub mod constraints;
 pub mod contacts;
 pub mod damping;
 mod global;
 mod local;
+pub mod measures;
 pub mod model;
+mod objective;
+mod reference;
 pub mod settings;
 pub mod simulation;
 pub mod soa;
@@ -23,6 +27,8 @@ pub mod system;
 pub use constraints::{Attachment, Seam, SeamPoint};
 pub use contacts::{ImplicitCollider, Shape};
 pub use damping::RampPhase;
+pub use measures::{ErrorMeasures, IterationRecord, ReferenceOptions, StepMeasurement};
+pub use reference::ReferenceInfo;
 pub use settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings};
 pub use simulation::Simulation;
 pub use soa::Vec3Soa;

@@ -53,7 +53,15 @@ pub struct Simulation {
     ramp: Ramp,
     cheb: Chebyshev,
     free: Vec<u32>,
-    h_prepared: f32,
+    pub(crate) h_prepared: f32,
+    time: f64,
+}
+
+/// A snapshot of the moving state.
+pub(crate) struct SavedState {
+    x: Vec3Soa,
+    v: Vec3Soa,
+    ramp: Ramp,
     time: f64,
 }
 
@@ -257,7 +265,7 @@ impl Simulation {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(TailorError::setting("dt", dt, "the time step must be positive and finite"));
         }
-        let backup = (self.x.clone(), self.v.clone(), self.ramp.clone(), self.time);
+        let backup = self.save_state();
         let substeps = self.settings.substeps;
         let h = dt / substeps as f32;
         let mut stats = StepStats { substeps, ..Default::default() };
@@ -269,7 +277,7 @@ impl Simulation {
             stats.timings.add(&t);
         }
         if !self.x.all_finite() || !self.v.all_finite() {
-            (self.x, self.v, self.ramp, self.time) = backup;
+            self.restore_state(backup);
             return Err(TailorError::Diverged {
                 reason: "positions became non-finite; the state was rolled back (lower the time step or \
                          stiffness, or raise substeps)"
@@ -312,6 +320,24 @@ impl Simulation {
             }
         }
         h
+    }
+
+    /// Everything a measurement may disturb.
+    pub(crate) fn save_state(&self) -> SavedState {
+        SavedState { x: self.x.clone(), v: self.v.clone(), ramp: self.ramp.clone(), time: self.time }
+    }
+
+    pub(crate) fn restore_state(&mut self, s: SavedState) {
+        (self.x, self.v, self.ramp, self.time) = (s.x, s.v, s.ramp, s.time);
+    }
+
+    /// Detects contacts at the current positions (measurements freeze them for a whole step).
+    pub(crate) fn detect_contacts_now(&mut self) {
+        if self.colliders.is_empty() {
+            self.contacts.clear();
+        } else {
+            self.contacts.detect(&self.colliders, self.thickness, &self.x, &self.diag, &self.model.pinned);
+        }
     }
 
     /// Rebuilds derived structures and per-`h` quantities when needed.
@@ -387,11 +413,7 @@ impl Simulation {
         for k in 0..max_iterations {
             let t0 = Instant::now();
             if detect {
-                if self.colliders.is_empty() {
-                    self.contacts.clear();
-                } else {
-                    self.contacts.detect(&self.colliders, self.thickness, &self.x, &self.diag, &self.model.pinned);
-                }
+                self.detect_contacts_now();
             }
             let mut slots = std::mem::take(&mut self.slots);
             project_all(&self.model, &self.x, &mut slots);

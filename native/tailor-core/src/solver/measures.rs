@@ -1,0 +1,144 @@
+//! Error measures of a step: how far an iterate is from the exact solution of the implicit
+//! step, as a function of iterations and wall time.
+//!
+//! For iterate `xₖ`, initial guess `x₀` (the inertial prediction) and reference `x*`:
+//!
+//! * relative objective error `(E(xₖ) − E(x*)) / (E(x₀) − E(x*))`;
+//! * relative residual `‖∇E(xₖ)‖ / ‖∇E(x₀)‖`;
+//! * distance to the reference `‖xₖ − x*‖ / ‖x₀ − x*‖`, and its largest particle distance in
+//!   metres.
+//!
+//! [`Simulation::measure_step`] freezes one substep's problem (prediction and contacts), solves
+//! it with the reference solver, then runs the chosen method iteration by iteration, timing only
+//! the iterations, and restores the simulation afterwards: measuring changes nothing.
+
+use std::time::Instant;
+
+use super::reference::ReferenceInfo;
+use super::settings::Method;
+use super::simulation::Simulation;
+use super::soa::Vec3Soa;
+use super::stats::StageTimings;
+use crate::error::{Result, TailorError};
+
+/// The three error measures of one iterate.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ErrorMeasures {
+    pub objective_rel: f64,
+    pub residual_rel: f64,
+    pub distance_rel: f64,
+    /// Largest distance of a particle to the reference, metres.
+    pub distance_max: f64,
+}
+
+/// Measures after one iteration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IterationRecord {
+    /// 1-based iteration count.
+    pub iteration: u32,
+    /// Solver wall time up to and including this iteration, seconds (measuring excluded).
+    pub seconds: f64,
+    pub measures: ErrorMeasures,
+}
+
+/// A measured step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepMeasurement {
+    pub method: Method,
+    pub reference: ReferenceInfo,
+    pub records: Vec<IterationRecord>,
+}
+
+/// Limits of the reference solve.
+#[derive(Debug, Clone, Copy)]
+pub struct ReferenceOptions {
+    pub max_iterations: u32,
+    /// Stop when no particle moves more than this in an iteration, metres. Positions are f32,
+    /// so values much below 1e-7 m (the spacing of f32 near 1 m) cannot be reached.
+    pub tolerance_m: f64,
+}
+
+impl Default for ReferenceOptions {
+    fn default() -> Self {
+        Self { max_iterations: 5_000, tolerance_m: 1e-7 }
+    }
+}
+
+impl Simulation {
+    /// Measures `iterations` iterations of `method` on the next substep (of length
+    /// `dt / substeps`) against the reference solution. The simulation is left unchanged.
+    pub fn measure_step(
+        &mut self,
+        dt: f32,
+        method: Method,
+        iterations: u32,
+        reference: ReferenceOptions,
+    ) -> Result<StepMeasurement> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(TailorError::setting("dt", dt, "the time step must be positive and finite"));
+        }
+        if iterations == 0 {
+            return Err(TailorError::setting("iterations", iterations, "must be at least 1"));
+        }
+        let saved = self.save_state();
+        let result = self.measure_inner(dt / self.settings.substeps as f32, method, iterations, reference);
+        self.restore_state(saved);
+        result
+    }
+
+    fn measure_inner(
+        &mut self,
+        h: f32,
+        method: Method,
+        iterations: u32,
+        ro: ReferenceOptions,
+    ) -> Result<StepMeasurement> {
+        self.prepare(h);
+        self.predict(h);
+        self.detect_contacts_now();
+        let x0 = self.x.clone();
+        let (x_ref, reference) = self.reference_solve(ro.max_iterations, ro.tolerance_m)?;
+        let e_ref = self.objective(&x_ref);
+        let e0 = self.objective(&x0);
+        let g0 = self.gradient_norm(&x0).max(1e-300);
+        let d0 = distance(&x0, &x_ref).0.max(1e-300);
+        let g_ref = self.gradient_norm(&x_ref);
+        let reference = ReferenceInfo { gradient_rel: g_ref / g0, ..reference };
+
+        self.x.copy_from(&x0);
+        let mut records = Vec::with_capacity(iterations as usize);
+        let mut timings = StageTimings::default();
+        let start = Instant::now();
+        let mut excluded = 0.0f64;
+        let mut measured: Vec<(u32, f64, Vec3Soa)> = Vec::with_capacity(iterations as usize);
+        self.iterate(method, iterations, 0.0, false, &mut timings, |k, x| {
+            let t = Instant::now();
+            let elapsed = (t - start).as_secs_f64() - excluded;
+            measured.push((k + 1, elapsed, x.clone()));
+            excluded += t.elapsed().as_secs_f64();
+        });
+        for (iteration, seconds, x) in measured {
+            let (dist, dmax) = distance(&x, &x_ref);
+            let measures = ErrorMeasures {
+                objective_rel: (self.objective(&x) - e_ref) / (e0 - e_ref).max(1e-300),
+                residual_rel: self.gradient_norm(&x) / g0,
+                distance_rel: dist / d0,
+                distance_max: dmax,
+            };
+            records.push(IterationRecord { iteration, seconds, measures });
+        }
+        Ok(StepMeasurement { method, reference, records })
+    }
+}
+
+/// `‖a − b‖` over all particles and the largest per-particle distance.
+fn distance(a: &Vec3Soa, b: &Vec3Soa) -> (f64, f64) {
+    let mut sum = 0.0f64;
+    let mut max = 0.0f64;
+    for i in 0..a.len() {
+        let d = (a.get(i) - b.get(i)).length_squared() as f64;
+        sum += d;
+        max = max.max(d);
+    }
+    (sum.sqrt(), max.sqrt())
+}

@@ -1,0 +1,109 @@
+//! Accuracy of a step against the reference solver, and determinism.
+
+use tailor_core::scenes::sewn_tube;
+use tailor_core::solver::{Fabric, Method, ReferenceOptions, Simulation, SolverSettings, StepMeasurement};
+
+/// The sewn tube two frames after the start, its seams still a few centimetres open: a step
+/// whose solution is far from the inertial prediction, so relative errors are well above the
+/// f32 floor. One substep per frame.
+fn closing_tube() -> Simulation {
+    let tube = sewn_tube(0.4, 0.4, 0.02, 0.1, 0.0, 500.0).unwrap();
+    let settings = SolverSettings { substeps: 1, ..Default::default() };
+    let mut sim = Simulation::new(tube.mesh, Fabric::default(), settings).unwrap();
+    for s in tube.seams {
+        sim.add_seam(s).unwrap();
+    }
+    for _ in 0..2 {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    sim
+}
+
+/// A 0.1 × 0.5 m strip hung from its top edge but placed 10 % too long, so the step must pull
+/// it up by millimetres: a stretch-dominated step, far above the f32 floor.
+fn stretched_strip() -> Simulation {
+    let (w, l, nx, ny) = (0.1f32, 0.5f32, 4usize, 20usize);
+    let (rest, tris) = tailor_core::scenes::rectangle(w, l, nx, ny);
+    let pos: Vec<[f32; 3]> = rest.iter().map(|r| [r[0], 0.0, 1.1 * (r[1] - l)]).collect();
+    let mesh = tailor_core::mesh::ClothMesh::new(pos, rest, tris).unwrap();
+    let fabric = Fabric { density: 0.2, stretch: 200.0, shear: 50.0, bend: 1e-6 };
+    let mut sim = Simulation::new(mesh, fabric, SolverSettings::default()).unwrap();
+    let top: Vec<u32> = (0..=nx).map(|i| (ny * (nx + 1) + i) as u32).collect();
+    sim.pin(&top, None).unwrap();
+    sim
+}
+
+fn first_below(m: &StepMeasurement, tol: f64) -> Option<u32> {
+    m.records.iter().find(|r| r.measures.distance_rel < tol).map(|r| r.iteration)
+}
+
+#[test]
+fn chebyshev_reaches_1e3_in_fewer_iterations_than_gauss_seidel() {
+    let mut sim = stretched_strip();
+    let before = sim.state_hash();
+    let opts = ReferenceOptions::default();
+    let gs = sim.measure_step(1.0 / 30.0, Method::GaussSeidel, 3000, opts).unwrap();
+    let ch = sim.measure_step(1.0 / 30.0, Method::Chebyshev, 400, opts).unwrap();
+    assert_eq!(sim.state_hash(), before, "measuring must not change the simulation");
+    println!("reference: {:?}", gs.reference);
+    assert!(gs.reference.last_change < 1e-6, "reference not converged: {:?}", gs.reference);
+    for k in [0usize, 9, 49, 99, 199, 399] {
+        let (a, b) = (gs.records[k].measures, ch.records[k].measures);
+        println!(
+            "it {:3}: GS dist {:.2e} obj {:.2e} res {:.2e} | Cheb dist {:.2e} obj {:.2e} res {:.2e}",
+            k + 1,
+            a.distance_rel,
+            a.objective_rel,
+            a.residual_rel,
+            b.distance_rel,
+            b.objective_rel,
+            b.residual_rel
+        );
+    }
+    let (n_gs, n_ch) = (first_below(&gs, 1e-3), first_below(&ch, 1e-3));
+    println!("iterations to 1e-3 relative distance: Gauss-Seidel {n_gs:?}, Chebyshev {n_ch:?}");
+    let (n_ch, n_gs) = (n_ch.expect("Chebyshev never reached 1e-3"), n_gs.expect("Gauss-Seidel never reached 1e-3"));
+    assert!(n_ch * 2 < n_gs, "Chebyshev {n_ch} vs Gauss-Seidel {n_gs}");
+    // The three measures fall together: the last record is far below the first.
+    for m in [&gs, &ch] {
+        let (a, b) = (m.records.first().unwrap().measures, m.records.last().unwrap().measures);
+        assert!(b.objective_rel < 0.1 * a.objective_rel && b.residual_rel < 0.1 * a.residual_rel, "{a:?} -> {b:?}");
+        assert!(m.records.windows(2).all(|w| w[1].seconds >= w[0].seconds));
+    }
+}
+
+#[test]
+fn jacobi_converges_but_more_slowly_than_gauss_seidel() {
+    let mut sim = stretched_strip();
+    let opts = ReferenceOptions::default();
+    let j = sim.measure_step(1.0 / 30.0, Method::Jacobi, 100, opts).unwrap();
+    let gs = sim.measure_step(1.0 / 30.0, Method::GaussSeidel, 100, opts).unwrap();
+    let (ej, egs) = (j.records.last().unwrap().measures.distance_rel, gs.records.last().unwrap().measures.distance_rel);
+    println!("after 100 iterations: Jacobi {ej:.2e}, Gauss-Seidel {egs:.2e}");
+    assert!(ej < 0.9 && egs < ej);
+}
+
+fn run_tube(frames: usize) -> u64 {
+    let tube = sewn_tube(0.3, 0.3, 0.03, 0.08, 0.0, 1000.0).unwrap();
+    let mut sim = Simulation::new(tube.mesh, Fabric::default(), SolverSettings::default()).unwrap();
+    for s in tube.seams {
+        sim.add_seam(s).unwrap();
+    }
+    for _ in 0..frames {
+        sim.step(1.0 / 30.0).unwrap();
+    }
+    sim.state_hash()
+}
+
+/// Same inputs, same bits: for a given thread count, and (by construction: colouring and
+/// reductions do not depend on scheduling) across thread counts too.
+#[test]
+fn positions_are_deterministic() {
+    let a = run_tube(12);
+    let b = run_tube(12);
+    assert_eq!(a, b, "two runs differ");
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| run_tube(12));
+    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| run_tube(12));
+    assert_eq!(one, two, "1 and 2 threads differ");
+    assert_eq!(a, two);
+}

@@ -16,5 +16,6 @@ pub mod error;
 pub mod mesh;
 pub mod pattern;
 pub mod solver;
+pub mod triangulate;
 
 pub use error::{Result, TailorError};

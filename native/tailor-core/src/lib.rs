@@ -15,6 +15,7 @@
 pub mod error;
 pub mod mesh;
 pub mod pattern;
+pub mod seam;
 pub mod solver;
 pub mod triangulate;
 

@@ -15,8 +15,8 @@ fn tri(p: &tailor_core::pattern::Piece, h: f64) -> PieceMesh {
 fn pt(m: &PieceMesh, w: WeightedPoint) -> [f64; 2] {
     let mut out = [0.0; 2];
     for (v, wt) in w {
-        for k in 0..2 {
-            out[k] += wt as f64 * m.rest[v as usize][k] as f64;
+        for (o, &r) in out.iter_mut().zip(&m.rest[v as usize]) {
+            *o += wt as f64 * r as f64;
         }
     }
     out
@@ -247,7 +247,7 @@ fn validation_errors_name_the_seam() {
 
     // A seam referring to a missing piece.
     let s = Seam::from_paths("x", 0, &m, &a, 1, &m, &tip_b, SeamMode::Equal).unwrap();
-    let e = s.resolve(&[m.clone()]).unwrap_err();
+    let e = s.resolve(std::slice::from_ref(&m)).unwrap_err();
     assert!(matches!(e, TailorError::InvalidSeam { ref seam, .. } if seam == "x"), "{e}");
     assert!(matches!(path_of_n(&m, 0, 999, Direction::Ccw), Err(TailorError::InvalidSetting { .. })));
     assert!(matches!(shortest_path(&m, 0, 999), Err(TailorError::IndexOutOfRange { .. })));

@@ -185,7 +185,7 @@ mod tests {
         assert_eq!(r.pin_points, vec![0, 3, 6, 9]);
         assert_eq!(r.points[3], [1.0, 0.0]);
         let open = resample(&sq, false, vec![], 0.3, 1e-9);
-        assert_eq!(open.points.len(), 10);
+        assert_eq!(open.points.len(), 11);
         assert_eq!(*open.points.last().unwrap(), [0.0, 1.0]);
     }
 }

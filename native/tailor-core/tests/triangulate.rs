@@ -197,8 +197,34 @@ fn bad_input_is_an_error_naming_the_piece() {
             "{e}"
         );
     }
+    let mut outside = p.clone();
+    outside.holes = vec![vec![[0.15, 0.15], [0.15, 0.25], [0.25, 0.25], [0.25, 0.15]]];
+    let e = triangulate_piece(&outside, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("hole 0")), "{e}");
+    let mut bowtie = p.clone();
+    bowtie.outline = vec![[0.0, 0.0], [0.3, 0.0], [0.3, 0.2], [0.2, 0.2], [0.25, -0.1], [0.0, 0.2]];
+    bowtie.fixed_vertices.clear();
+    let e = triangulate_piece(&bowtie, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { .. }), "{e}");
     let mut through = p.clone();
     through.internal_lines = vec![vec![[0.05, 0.05], [0.15, 0.15]], vec![[0.05, 0.15], [0.15, 0.05]]];
     let e = triangulate_piece(&through, &TriangulateOptions::new(0.02)).unwrap_err();
     assert!(matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("cross")), "{e}");
+}
+
+#[test]
+fn dart_piece_keeps_its_dart_and_is_deterministic() {
+    // A 10° dart cut into the top edge; its legs and tip are found as corners.
+    let p = piece(
+        "dart",
+        vec![[0.0, 0.0], [0.4, 0.0], [0.4, 0.3], [0.215, 0.3], [0.2, 0.13], [0.185, 0.3], [0.0, 0.3]],
+        vec![],
+    );
+    let m = mesh(&p, 0.02);
+    check_common(&p, &m, 0.02);
+    assert_eq!(m.corners.len(), 7);
+    assert!(close(m.contour_point(m.outline_map[4]), [0.2, 0.13]));
+    let again = triangulate_piece(&p, &TriangulateOptions::new(0.02)).unwrap();
+    assert_eq!((&again.rest, &again.triangles, &again.contour), (&m.rest, &m.triangles, &m.contour));
+    assert_eq!(again, m);
 }

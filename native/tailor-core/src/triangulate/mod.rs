@@ -412,6 +412,9 @@ fn validate_piece(piece: &Piece) -> Result<()> {
             return Err(TailorError::shape(ctx, format!("hole {k} has {} points (3 at least)", hl.len())));
         }
         check("hole point", hl)?;
+        if let Some(j) = hl.iter().position(|&p| !resample::inside(&piece.outline, p)) {
+            return Err(TailorError::shape(ctx, format!("hole {k} point {j} is outside the outline")));
+        }
     }
     for (k, l) in piece.internal_lines.iter().enumerate() {
         if l.len() < 2 {

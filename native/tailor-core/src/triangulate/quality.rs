@@ -1,7 +1,5 @@
 //! Quality figures of a piece mesh, so that artists and tests can see what a resolution gives.
 
-use std::collections::HashSet;
-
 use serde::{Deserialize, Serialize};
 
 /// Measured quality of a triangulation (lengths in metres, angles in degrees).
@@ -39,7 +37,8 @@ pub(crate) fn measure(
         ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
     };
     let (mut min_a, mut max_a, mut area) = (f64::INFINITY, 0.0f64, 0.0);
-    let mut edges = HashSet::with_capacity(triangles.len() * 2);
+    // A sorted list, not a hash set, so that the sums (and the struct) are reproducible.
+    let mut edges = Vec::with_capacity(triangles.len() * 3);
     for t in triangles {
         let l = [d(t[1], t[2]), d(t[2], t[0]), d(t[0], t[1])];
         for k in 0..3 {
@@ -49,11 +48,13 @@ pub(crate) fn measure(
             min_a = min_a.min(ang);
             max_a = max_a.max(ang);
             let (u, v) = (t[(k + 1) % 3], t[(k + 2) % 3]);
-            edges.insert((u.min(v), u.max(v)));
+            edges.push((u.min(v), u.max(v)));
         }
         let (p, q, r) = (rest[t[0] as usize], rest[t[1] as usize], rest[t[2] as usize]);
         area += 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
     }
+    edges.sort_unstable();
+    edges.dedup();
     let lengths: Vec<f64> = edges.iter().map(|&(a, b)| d(a, b)).collect();
     let n = lengths.len().max(1) as f64;
     let within = lengths.iter().filter(|&&l| (l - target).abs() <= 0.35 * target).count() as f64 / n;

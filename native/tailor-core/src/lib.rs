@@ -15,11 +15,13 @@
 //!   suggestions, and the sewn pairs and hinges the solver consumes.
 //! * [`bend`]: wrapping a placed piece around an axis before simulation (paper Fig. 4).
 //! * [`placement`]: initial 3D positions from a pattern's placement, or a flat layout.
+//! * [`garment_file`]: the versioned garment file (JSON manifest plus binary sidecar).
 //!
 //! The `tailor` Python module (crate `tailor-py`) is a thin layer over this crate.
 
 pub mod bend;
 pub mod error;
+pub mod garment_file;
 pub mod mesh;
 pub mod pattern;
 pub mod placement;

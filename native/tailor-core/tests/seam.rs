@@ -155,7 +155,7 @@ fn check_weights(pairs: &[SeamPair]) {
 fn unequal_counts_sew_arc_length_matched_points() {
     let (pa, pb) = (rectangle("front", 0.3, 0.4), rectangle("back", 0.3, 0.4));
     let (ma, mb) = (tri(&pa, 0.02), tri(&pb, 0.013));
-    let a = path_between(&ma, ma.span_map[1][0], ma.span_map[1][1], Direction::Ccw).unwrap();
+    let a = span_path(&ma, 1).unwrap();
     let b = path_between(&mb, mb.span_map[3][1], mb.span_map[3][0], Direction::Cw).unwrap();
     assert_ne!(a.len(), b.len());
     let e = Seam::from_paths("mismatch", 0, &ma, &a, 1, &mb, &b, SeamMode::Equal).unwrap_err();
@@ -251,4 +251,10 @@ fn validation_errors_name_the_seam() {
     assert!(matches!(e, TailorError::InvalidSeam { ref seam, .. } if seam == "x"), "{e}");
     assert!(matches!(path_of_n(&m, 0, 999, Direction::Ccw), Err(TailorError::InvalidSetting { .. })));
     assert!(matches!(shortest_path(&m, 0, 999), Err(TailorError::IndexOutOfRange { .. })));
+    assert!(matches!(span_path(&m, 4), Err(TailorError::IndexOutOfRange { index: 4, .. })));
+    let empty = ContourPath { positions: vec![], direction: Direction::Ccw };
+    assert!(SeamSide::from_path(0, &m, &empty).is_err());
+    assert!(remap_path(&m, &bad, &m).is_ok());
+    let off = ContourPath { positions: vec![1, 99999], direction: Direction::Ccw };
+    assert!(remap_path(&m, &off, &m).is_err());
 }

@@ -175,6 +175,13 @@ fn bad_input_is_an_error_naming_the_piece() {
     o.min_angle_deg = 40.0;
     assert!(matches!(triangulate_piece(&p, &o), Err(TailorError::InvalidSetting { name: "min_angle_deg", .. })));
 
+    let huge = rectangle("tent", 20.0, 20.0);
+    let e = triangulate_piece(&huge, &TriangulateOptions::new(0.005)).unwrap_err();
+    assert!(matches!(e, TailorError::InvalidSetting { name: "edge_length", .. }), "{e}");
+    let mut flat_hole = p.clone();
+    flat_hole.holes = vec![vec![[0.05, 0.05], [0.1, 0.05], [0.15, 0.05]]];
+    let e = triangulate_piece(&flat_hole, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("no area")), "{e}");
     let mut bad = p.clone();
     bad.fixed_vertices.push(9);
     assert!(matches!(

@@ -19,6 +19,6 @@ pub use model::{remap_path, ResolvedSeam, Seam, SeamMode, SeamSide};
 pub use pairs::{SeamHinge, SeamPair, WeightedPoint};
 pub use paths::{
     candidate_paths, nearer_candidate, nearest_contour_position, nearest_contour_position_3d, path_between, path_of_n,
-    shortest_path, ContourPath, Direction,
+    shortest_path, span_path, ContourPath, Direction,
 };
 pub use validate::{check_side, path_from_vertices, validate_seam};

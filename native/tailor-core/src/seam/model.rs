@@ -66,13 +66,20 @@ pub struct ResolvedSeam {
 }
 
 impl SeamSide {
-    /// The side of an already picked path.
-    pub fn from_path(piece: usize, mesh: &PieceMesh, path: &ContourPath) -> Self {
+    /// The side of an already picked path (at least one vertex, on `mesh`'s contour).
+    pub fn from_path(piece: usize, mesh: &PieceMesh, path: &ContourPath) -> Result<Self> {
+        let n = mesh.contour.len();
+        if path.is_empty() || path.positions.iter().any(|&p| p >= n) {
+            return Err(TailorError::shape(
+                format!("piece {}", mesh.name),
+                format!("a seam side needs contour positions below {n}, got {:?}", path.positions),
+            ));
+        }
         let p = |i: usize| {
             let q = mesh.contour_point(i);
             [q[0] as f64, q[1] as f64]
         };
-        SeamSide { piece, start: p(path.first()), end: p(path.last()), direction: path.direction }
+        Ok(SeamSide { piece, start: p(path.first()), end: p(path.last()), direction: path.direction })
     }
 
     /// The contour path on `mesh` between the positions nearest `start` and `end`.
@@ -101,8 +108,8 @@ impl Seam {
         validate_seam(name, mesh_a, path_a, mesh_b, path_b, piece_a == piece_b, mode)?;
         Ok(Seam {
             name: name.to_string(),
-            a: SeamSide::from_path(piece_a, mesh_a, path_a),
-            b: SeamSide::from_path(piece_b, mesh_b, path_b),
+            a: SeamSide::from_path(piece_a, mesh_a, path_a)?,
+            b: SeamSide::from_path(piece_b, mesh_b, path_b)?,
             mode,
             stiffness: 1.0,
             bend_stiffness: 1.0,
@@ -144,16 +151,5 @@ impl Seam {
 /// Remaps a path picked on `old` onto `new` (the same piece at another resolution) by the
 /// positions of its endpoints; the vertices between are recomputed.
 pub fn remap_path(old: &PieceMesh, path: &ContourPath, new: &PieceMesh) -> Result<ContourPath> {
-    if path.is_empty() {
-        return Err(TailorError::shape(format!("piece {}", old.name), "cannot remap an empty path"));
-    }
-    if let Some(&p) = path.positions.iter().find(|&&p| p >= old.contour.len()) {
-        return Err(TailorError::index(
-            format!("piece {} path", old.name),
-            p as i64,
-            old.contour.len(),
-            "contour vertices",
-        ));
-    }
-    SeamSide::from_path(0, old, path).resolve(new)
+    SeamSide::from_path(0, old, path)?.resolve(new)
 }

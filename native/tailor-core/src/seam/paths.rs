@@ -50,9 +50,11 @@ impl ContourPath {
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()
     }
+    /// First contour position (panics on an empty path; validated paths have two or more).
     pub fn first(&self) -> usize {
         self.positions[0]
     }
+    /// Last contour position (panics on an empty path).
     pub fn last(&self) -> usize {
         self.positions[self.positions.len() - 1]
     }
@@ -111,6 +113,15 @@ pub fn path_between(mesh: &PieceMesh, from: usize, to: usize, direction: Directi
         Direction::Cw => (from + len - to) % len,
     };
     path_of_n(mesh, from, steps + 1, direction)
+}
+
+/// The counter-clockwise path along named edge `span` of the piece (`Piece::edges[span]`),
+/// the side of a stitch read from a pattern file.
+pub fn span_path(mesh: &PieceMesh, span: usize) -> Result<ContourPath> {
+    let [s, e] = *mesh.span_map.get(span).ok_or_else(|| {
+        TailorError::index(format!("piece {} edges", mesh.name), span as i64, mesh.span_map.len(), "named edges")
+    })?;
+    path_between(mesh, s, e, Direction::Ccw)
 }
 
 /// The shorter (by rest arc length) of the two contour paths from `from` to `to` (steps 2-3);

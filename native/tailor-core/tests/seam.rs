@@ -258,3 +258,37 @@ fn validation_errors_name_the_seam() {
     let off = ContourPath { positions: vec![1, 99999], direction: Direction::Ccw };
     assert!(remap_path(&m, &off, &m).is_err());
 }
+
+#[test]
+fn sewing_concatenates_pieces_and_shifts_the_seams() {
+    let (pa, pb) = (rectangle("front", 0.3, 0.4), rectangle("back", 0.3, 0.4));
+    let (ma, mb) = (tri(&pa, 0.02), tri(&pb, 0.013));
+    let a = span_path(&ma, 1).unwrap();
+    let b = path_between(&mb, mb.span_map[3][1], mb.span_map[3][0], Direction::Cw).unwrap();
+    let seam = Seam::from_paths("side", 0, &ma, &a, 1, &mb, &b, SeamMode::Unequal).unwrap();
+    let meshes = vec![ma.clone(), mb.clone()];
+    // Back piece placed 0.3 m to the left of the front, so the sewn sides already touch.
+    let pos = vec![
+        ma.rest.iter().map(|r| [r[0], r[1], 0.0]).collect(),
+        mb.rest.iter().map(|r| [r[0] + 0.3, r[1], 0.0]).collect::<Vec<_>>(),
+    ];
+    let g = sew(&meshes, &pos, &[seam]).unwrap();
+    assert_eq!(g.mesh.num_vertices(), ma.rest.len() + mb.rest.len());
+    assert_eq!(g.offsets, vec![0, ma.rest.len() as u32]);
+    assert_eq!(g.pairs.len(), g.pair_seam.len());
+    assert_eq!(g.hinges.len(), a.len() - 1);
+    let at = |w: WeightedPoint| {
+        let mut p = [0.0f64; 3];
+        for (v, wt) in w {
+            for (o, &c) in p.iter_mut().zip(&g.mesh.positions()[v as usize]) {
+                *o += wt as f64 * c as f64;
+            }
+        }
+        p
+    };
+    for p in &g.pairs {
+        let (x, y) = (at(p.a), at(p.b));
+        assert!((0..3).all(|k| (x[k] - y[k]).abs() < 1e-5), "{x:?} {y:?}");
+    }
+    assert!(sew(&meshes, &pos[..1], &[]).is_err());
+}

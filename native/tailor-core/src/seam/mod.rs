@@ -7,13 +7,16 @@
 //! * [`pairs`]: the solver's inputs, sewn [`SeamPair`]s (vertex-to-vertex, or vertex-to-edge
 //!   point by arc length) and [`SeamHinge`]s for bending across the seam.
 //! * [`validate`]: the checks, each error naming the seam.
+//! * [`assemble`]: pieces and seams concatenated into the solver's cloth mesh.
 
+pub mod assemble;
 pub mod corners;
 pub mod model;
 pub mod pairs;
 pub mod paths;
 pub mod validate;
 
+pub use assemble::{sew, SewnGarment};
 pub use corners::{contour_angles_deg, find_corners, nearest_corner_segment};
 pub use model::{remap_path, ResolvedSeam, Seam, SeamMode, SeamSide};
 pub use pairs::{SeamHinge, SeamPair, WeightedPoint};

@@ -178,6 +178,10 @@ fn bad_input_is_an_error_naming_the_piece() {
     let huge = rectangle("tent", 20.0, 20.0);
     let e = triangulate_piece(&huge, &TriangulateOptions::new(0.005)).unwrap_err();
     assert!(matches!(e, TailorError::InvalidSetting { name: "edge_length", .. }), "{e}");
+    // A thin diagonal strip: small area, but a lattice over a 100 m² bounding box.
+    let strip = piece("strip", vec![[0.0, 0.0], [10.0, 10.0], [9.999, 10.001]], vec![]);
+    let e = triangulate_piece(&strip, &TriangulateOptions::new(0.001)).unwrap_err();
+    assert!(matches!(e, TailorError::InvalidSetting { name: "edge_length", .. }), "{e}");
     let mut flat_hole = p.clone();
     flat_hole.holes = vec![vec![[0.05, 0.05], [0.1, 0.05], [0.15, 0.05]]];
     let e = triangulate_piece(&flat_hole, &TriangulateOptions::new(0.02)).unwrap_err();

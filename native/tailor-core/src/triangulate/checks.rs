@@ -46,9 +46,19 @@ pub(crate) fn validate_piece(piece: &Piece, h: f64) -> Result<()> {
         check("internal line point", l)?;
     }
     check("notch", &piece.notches)?;
-    // Equilateral triangles of side h: about area / (√3/2 h²) vertices.
-    let estimate = signed_area(&piece.outline) / (3f64.sqrt() / 2.0 * h * h);
-    if estimate > MAX_VERTICES {
+    // Equilateral triangles of side h: about area / (√3/2 h²) vertices. The lattice is laid
+    // over the bounding box, so a thin diagonal piece is bounded by that too.
+    let cell = 3f64.sqrt() / 2.0 * h * h;
+    let estimate = signed_area(&piece.outline) / cell;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &piece.outline {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let lattice = (hi[0] - lo[0]) * (hi[1] - lo[1]) / cell;
+    if estimate > MAX_VERTICES || lattice > 10.0 * MAX_VERTICES {
         return Err(TailorError::setting(
             "edge_length",
             h,

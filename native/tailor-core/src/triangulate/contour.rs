@@ -58,7 +58,7 @@ pub(crate) fn boundary_loop(piece: &str, triangles: &[[u32; 3]], n_vertices: usi
         }
     }
     let err = |reason: String| TailorError::shape(format!("piece {piece}"), reason);
-    if next[start as usize] == u32::MAX {
+    if start as usize >= n_vertices || next[start as usize] == u32::MAX {
         return Err(err("the outline's first point is not on the mesh boundary".into()));
     }
     let mut contour = vec![start];

@@ -9,13 +9,26 @@
 //!   seam-closing damping ramp of Nylén et al. 2020, plus an f64 reference solver and error
 //!   measures.
 //! * [`pattern`]: 2D sewing patterns (DXF, SVG, GarmentCode) as outlines in metres.
+//! * [`triangulate`]: a pattern piece becomes an isotropic triangle mesh at a target edge length,
+//!   with its ordered outer contour.
+//! * [`seam`]: resolution-independent seams between contours, the paper's picking steps, corner
+//!   suggestions, and the sewn pairs and hinges the solver consumes.
+//! * [`bend`]: wrapping a placed piece around an axis before simulation (paper Fig. 4).
+//! * [`placement`]: initial 3D positions from a pattern's placement, or a flat layout.
+//! * [`scenes`]: procedural scenes (rectangles, a sewn tube) for tests, benchmarks and the demo.
+//! * [`garment_file`]: the versioned garment file (JSON manifest plus binary sidecar).
 //!
 //! The `tailor` Python module (crate `tailor-py`) is a thin layer over this crate.
 
+pub mod bend;
 pub mod error;
+pub mod garment_file;
 pub mod mesh;
 pub mod pattern;
+pub mod placement;
 pub mod scenes;
+pub mod seam;
 pub mod solver;
+pub mod triangulate;
 
 pub use error::{Result, TailorError};

@@ -1,0 +1,52 @@
+//! Settings of the triangulation.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, TailorError};
+
+/// Settings of [`triangulate_piece`](super::triangulate_piece).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TriangulateOptions {
+    /// Target edge length `h`, metres (the resolution).
+    pub edge_length: f64,
+    /// Minimum triangle angle refinement enforces, degrees (at most 33; input angles smaller
+    /// than this between outline segments cannot be improved).
+    pub min_angle_deg: f64,
+    /// Outline, hole and internal-line vertices where the direction turns by at least this many
+    /// degrees are kept as vertices (so a 90° corner of an unmarked outline stays sharp).
+    pub corner_turn_deg: f64,
+    /// Largest triangle area allowed, as a multiple of the equilateral area `(√3/4) h²`.
+    pub max_area_factor: f64,
+    /// Lattice seeds closer than this multiple of `h` to a constraint are dropped.
+    pub lattice_margin: f64,
+}
+
+impl TriangulateOptions {
+    /// Defaults for a target edge length `h` (metres).
+    pub fn new(edge_length: f64) -> Self {
+        Self { edge_length, min_angle_deg: 28.0, corner_turn_deg: 30.0, max_area_factor: 1.5, lattice_margin: 0.6 }
+    }
+
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !(self.edge_length.is_finite() && self.edge_length > 1e-5) {
+            return Err(TailorError::setting("edge_length", self.edge_length, "must be a length above 0.01 mm"));
+        }
+        if !(self.min_angle_deg >= 0.0 && self.min_angle_deg <= 33.0) {
+            return Err(TailorError::setting(
+                "min_angle_deg",
+                self.min_angle_deg,
+                "must be in [0, 33] (Delaunay refinement does not terminate above)",
+            ));
+        }
+        if !(self.corner_turn_deg > 0.0 && self.corner_turn_deg <= 180.0) {
+            return Err(TailorError::setting("corner_turn_deg", self.corner_turn_deg, "must be in (0, 180]"));
+        }
+        if !(self.max_area_factor.is_finite() && self.max_area_factor >= 0.5) {
+            return Err(TailorError::setting("max_area_factor", self.max_area_factor, "must be at least 0.5"));
+        }
+        if !(self.lattice_margin.is_finite() && (0.2..=1.0).contains(&self.lattice_margin)) {
+            return Err(TailorError::setting("lattice_margin", self.lattice_margin, "must be in [0.2, 1]"));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,241 @@
+//! Triangulation quality on synthetic pieces: angles, edge lengths, boundary spacing, area,
+//! kept corners, holes and internal lines, and the errors on bad input.
+
+mod common;
+
+use std::collections::HashMap;
+
+use common::*;
+use tailor_core::mesh::ClothMesh;
+use tailor_core::pattern::{Piece, Point2};
+use tailor_core::triangulate::{triangulate_piece, PieceMesh, TriangulateOptions};
+use tailor_core::TailorError;
+
+fn mesh(p: &Piece, h: f64) -> PieceMesh {
+    let m = triangulate_piece(p, &TriangulateOptions::new(h)).unwrap();
+    let q = &m.quality;
+    eprintln!(
+        "{} h={h}: {} verts {} tris, angles {:.1}..{:.1}, edges {:.4}/{:.4}/{:.4}, within35 {:.3}, contour {:.4}..{:.4}, area {:.5} vs {:.5}",
+        p.name,
+        q.vertices,
+        q.triangles,
+        q.min_angle_deg,
+        q.max_angle_deg,
+        q.min_edge,
+        q.mean_edge,
+        q.max_edge,
+        q.edges_within_35pct,
+        q.contour_min_edge,
+        q.contour_max_edge,
+        q.area,
+        polygon_area(p)
+    );
+    m
+}
+
+fn close(a: [f32; 2], b: Point2) -> bool {
+    (a[0] as f64 - b[0]).abs() < 1e-6 && (a[1] as f64 - b[1]).abs() < 1e-6
+}
+
+/// Everything every mesh must satisfy whatever the piece.
+fn check_common(p: &Piece, m: &PieceMesh, h: f64) {
+    let q = &m.quality;
+    assert!(q.refinement_complete);
+    assert!(q.min_angle_deg >= 25.0, "{}: min angle {}", p.name, q.min_angle_deg);
+    assert!(q.edges_within_35pct >= 0.9, "{}: only {} of edges within ±35 %", p.name, q.edges_within_35pct);
+    let area = polygon_area(p);
+    assert!((q.area - area).abs() <= 0.005 * area, "{}: area {} vs {}", p.name, q.area, area);
+    // Counter-clockwise triangles, accepted by the solver's mesh (manifold, non-degenerate).
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|v| m.rest[v as usize]);
+        assert!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0);
+    }
+    let pos = m.rest.iter().map(|r| [r[0], r[1], 0.0]).collect();
+    ClothMesh::new(pos, m.rest.clone(), m.triangles.clone()).unwrap();
+    // The contour is a CCW loop of boundary edges, evenly spaced at about h.
+    let n = m.contour.len();
+    let mut signed = 0.0;
+    for i in 0..n {
+        let (a, b) = (m.contour_point(i), m.contour_point(i + 1));
+        signed += (a[0] * b[1] - b[0] * a[1]) as f64 * 0.5;
+        let l = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() as f64;
+        assert!(l > 0.6 * h && l < 1.4 * h, "{}: contour edge {i} has length {l}", p.name);
+    }
+    assert!(signed > 0.0);
+    let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    for i in 0..n {
+        let (a, b) = (m.contour[i], m.contour[(i + 1) % n]);
+        assert_eq!(count[&(a.min(b), a.max(b))], 1, "contour edge {i} is not a boundary edge");
+    }
+    // Every fixed vertex is a vertex at exactly its outline position.
+    for (k, &i) in p.fixed_vertices.iter().enumerate() {
+        assert!(close(m.contour_point(m.fixed_map[k]), p.outline[i]));
+    }
+    assert!(
+        (m.contour_param[n - 1] + dist(m.contour_point(n - 1), m.contour_point(0)) - m.contour_length).abs() < 1e-6
+    );
+}
+
+fn dist(a: [f32; 2], b: [f32; 2]) -> f64 {
+    (((a[0] - b[0]) as f64).powi(2) + ((a[1] - b[1]) as f64).powi(2)).sqrt()
+}
+
+#[test]
+fn rectangle_is_isotropic_and_keeps_its_corners_and_spans() {
+    let p = rectangle("rect", 0.5, 0.3);
+    let m = mesh(&p, 0.02);
+    check_common(&p, &m, 0.02);
+    assert_eq!(m.contour.len(), 80);
+    assert_eq!(m.corners.len(), 4);
+    for (k, span) in p.edges.iter().enumerate() {
+        assert!(close(m.contour_point(m.span_map[k][0]), p.outline[span.start]));
+        assert!(close(m.contour_point(m.span_map[k][1]), p.outline[span.end]));
+    }
+    // Contour starts at outline point 0 and the bottom edge runs along +x.
+    assert!(close(m.contour_point(0), [0.0, 0.0]));
+    assert!(close(m.contour_point(25), [0.5, 0.0]));
+}
+
+#[test]
+fn l_shape_finds_its_corners_without_fixed_vertices() {
+    let p = l_shape();
+    let m = mesh(&p, 0.02);
+    check_common(&p, &m, 0.02);
+    assert_eq!(m.corners.len(), 6, "{:?}", m.corners);
+    for (i, pt) in p.outline.iter().enumerate() {
+        assert!(close(m.contour_point(m.outline_map[i]), *pt), "outline point {i}");
+    }
+}
+
+#[test]
+fn hole_internal_lines_and_notch_are_respected() {
+    let p = holed();
+    let h = 0.015;
+    let m = mesh(&p, h);
+    check_common(&p, &m, h);
+    // No triangle inside the hole.
+    for t in &m.triangles {
+        let c = [0, 1].map(|k| t.iter().map(|&v| m.rest[v as usize][k] as f64).sum::<f64>() / 3.0);
+        assert!(!(c[0] > 0.15 && c[0] < 0.25 && c[1] > 0.15 && c[1] < 0.25), "triangle in the hole");
+    }
+    // Each internal line is covered by mesh edges lying on it.
+    let mut edges = std::collections::HashSet::new();
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    for line in &p.internal_lines {
+        let (a, b) = (line[0], line[1]);
+        let on = |v: u32| {
+            let r = m.rest[v as usize];
+            let (x, y) = (r[0] as f64, r[1] as f64);
+            (x - a[0]).abs() < 1e-6 && y >= a[1] - 1e-6 && y <= b[1] + 1e-6
+        };
+        let covered: f64 = edges
+            .iter()
+            .filter(|&&(u, v)| on(u) && on(v))
+            .map(|&(u, v)| dist(m.rest[u as usize], m.rest[v as usize]))
+            .sum();
+        assert!((covered - (b[1] - a[1])).abs() < 1e-5, "internal line covered {covered} of {}", b[1] - a[1]);
+    }
+    // The dart line meets the outline at a contour vertex; the notch is a contour vertex.
+    assert!(m.contour.iter().any(|&v| close(m.rest[v as usize], [0.32, 0.0])));
+    assert!(close(m.contour_point(m.notch_map[0].unwrap()), [0.2, 0.4]));
+}
+
+#[test]
+fn curved_sleeve_at_two_resolutions() {
+    let p = sleeve();
+    for h in [0.02, 0.01] {
+        let m = mesh(&p, h);
+        check_common(&p, &m, h);
+        assert_eq!(m.corners.len(), 4);
+    }
+}
+
+#[test]
+fn bad_input_is_an_error_naming_the_piece() {
+    let mut cw = rectangle("cw", 0.2, 0.2);
+    cw.outline.reverse();
+    let e = triangulate_piece(&cw, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { ref context, .. } if context.contains("cw")), "{e}");
+
+    let p = rectangle("r", 0.2, 0.2);
+    let e = triangulate_piece(&p, &TriangulateOptions::new(0.0)).unwrap_err();
+    assert!(matches!(e, TailorError::InvalidSetting { name: "edge_length", .. }), "{e}");
+    let mut o = TriangulateOptions::new(0.02);
+    o.min_angle_deg = 40.0;
+    assert!(matches!(triangulate_piece(&p, &o), Err(TailorError::InvalidSetting { name: "min_angle_deg", .. })));
+
+    let huge = rectangle("tent", 20.0, 20.0);
+    let e = triangulate_piece(&huge, &TriangulateOptions::new(0.005)).unwrap_err();
+    assert!(matches!(e, TailorError::InvalidSetting { name: "edge_length", .. }), "{e}");
+    // A thin diagonal strip: small area, but a lattice over a 100 m² bounding box.
+    let strip = piece("strip", vec![[0.0, 0.0], [10.0, 10.0], [9.999, 10.001]], vec![]);
+    let e = triangulate_piece(&strip, &TriangulateOptions::new(0.001)).unwrap_err();
+    assert!(matches!(e, TailorError::InvalidSetting { name: "edge_length", .. }), "{e}");
+    let mut flat_hole = p.clone();
+    flat_hole.holes = vec![vec![[0.05, 0.05], [0.1, 0.05], [0.15, 0.05]]];
+    let e = triangulate_piece(&flat_hole, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("no area")), "{e}");
+    let mut bad = p.clone();
+    bad.fixed_vertices.push(9);
+    assert!(matches!(
+        triangulate_piece(&bad, &TriangulateOptions::new(0.02)),
+        Err(TailorError::IndexOutOfRange { index: 9, .. })
+    ));
+    let mut nan = p.clone();
+    nan.outline[2][1] = f64::NAN;
+    assert!(matches!(
+        triangulate_piece(&nan, &TriangulateOptions::new(0.02)),
+        Err(TailorError::NonFinite { index: 2, .. })
+    ));
+
+    for line in [vec![[0.1, 0.1], [0.3, 0.1]], vec![[0.1, 0.1], [0.1, 0.3], [0.15, 0.1]]] {
+        let mut crossing = p.clone();
+        crossing.internal_lines = vec![line];
+        let e = triangulate_piece(&crossing, &TriangulateOptions::new(0.02)).unwrap_err();
+        assert!(
+            matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("internal line 0")),
+            "{e}"
+        );
+    }
+    let mut outside = p.clone();
+    outside.holes = vec![vec![[0.15, 0.15], [0.15, 0.25], [0.25, 0.25], [0.25, 0.15]]];
+    let e = triangulate_piece(&outside, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("hole 0")), "{e}");
+    let mut bowtie = p.clone();
+    bowtie.outline = vec![[0.0, 0.0], [0.3, 0.0], [0.3, 0.2], [0.2, 0.2], [0.25, -0.1], [0.0, 0.2]];
+    bowtie.fixed_vertices.clear();
+    let e = triangulate_piece(&bowtie, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { .. }), "{e}");
+    let mut through = p.clone();
+    through.internal_lines = vec![vec![[0.05, 0.05], [0.15, 0.15]], vec![[0.05, 0.15], [0.15, 0.05]]];
+    let e = triangulate_piece(&through, &TriangulateOptions::new(0.02)).unwrap_err();
+    assert!(matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("cross")), "{e}");
+}
+
+#[test]
+fn dart_piece_keeps_its_dart_and_is_deterministic() {
+    // A 10° dart cut into the top edge; its legs and tip are found as corners.
+    let p = piece(
+        "dart",
+        vec![[0.0, 0.0], [0.4, 0.0], [0.4, 0.3], [0.215, 0.3], [0.2, 0.13], [0.185, 0.3], [0.0, 0.3]],
+        vec![],
+    );
+    let m = mesh(&p, 0.02);
+    check_common(&p, &m, 0.02);
+    assert_eq!(m.corners.len(), 7);
+    assert!(close(m.contour_point(m.outline_map[4]), [0.2, 0.13]));
+    let again = triangulate_piece(&p, &TriangulateOptions::new(0.02)).unwrap();
+    assert_eq!((&again.rest, &again.triangles, &again.contour), (&m.rest, &m.triangles, &m.contour));
+    assert_eq!(again, m);
+}

@@ -51,6 +51,9 @@ pub enum InsertionRule {
     Paper,
     /// Alg. 1, plus every cell the triangle's plane passes through.
     PaperOrPlane,
+    /// Every cell of the triangle's AABB: conservative, for queries that must see every
+    /// triangle near a point (distances, broad phases), not for the particle-vs-cell test.
+    Aabb,
 }
 
 /// At most this many cells in one triangle's AABB: a bigger AABB means a cell size far too
@@ -75,13 +78,16 @@ pub fn aabb_cells(t: [Vec3; 3], l: f32) -> (Cell, Cell) {
 /// Whether `rule` keeps `cell` (assumed inside the triangle's AABB) for triangle `t`.
 #[inline]
 pub fn keeps_cell(t: [Vec3; 3], cell: Cell, l: f32, rule: InsertionRule) -> bool {
+    if rule == InsertionRule::Aabb {
+        return true;
+    }
     let centre = (Vec3::new(cell[0] as f32, cell[1] as f32, cell[2] as f32) + 0.5) * l;
     let r2 = 0.5 * l * l; // (l/√2)²
     if t.iter().any(|v| v.distance_squared(centre) < r2) {
         return true;
     }
     match rule {
-        InsertionRule::Paper => false,
+        InsertionRule::Paper | InsertionRule::Aabb => false,
         InsertionRule::PaperOrPlane => {
             let n = (t[1] - t[0]).cross(t[2] - t[0]);
             n.dot(centre - t[0]).abs() <= 0.5 * l * n.abs().element_sum()

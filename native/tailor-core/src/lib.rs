@@ -18,7 +18,7 @@
 
 pub mod collision;
 pub mod error;
-
+pub mod io;
 pub mod mesh;
 pub mod pattern;
 pub mod solver;

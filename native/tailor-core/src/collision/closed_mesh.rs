@@ -307,7 +307,8 @@ mod tests {
                 for &x in &[-3.0f32, -0.5, 0.0, 0.5, 3.0] {
                     pts.push([x, y, z]);
                     let strictly = y > -1.0 && y < 2.0 && z > -1.0 && z < 3.0 && x > -1.0 && x < 1.0;
-                    let outside = y < -1.0 || y > 2.0 || z < -1.0 || z > 3.0 || x < -1.0 || x > 1.0;
+                    let outside =
+                        !(-1.0..=2.0).contains(&y) || !(-1.0..=3.0).contains(&z) || !(-1.0..=1.0).contains(&x);
                     if strictly {
                         count += 1;
                     }

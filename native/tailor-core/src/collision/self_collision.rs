@@ -111,7 +111,7 @@ impl SelfCollision {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(TailorError::setting("radius", radius, "the collision radius must be positive and finite"));
         }
-        if !(cell_size >= 2.0 * radius) {
+        if cell_size.is_nan() || cell_size < 2.0 * radius {
             return Err(TailorError::setting(
                 "cell_size",
                 cell_size,

@@ -22,6 +22,10 @@ pub fn penetration(points: &[[f32; 3]], vertices: &[[f32; 3]], triangles: &[[u32
 
 /// Number of intersecting pairs of triangles that share no vertex.
 ///
+/// Vertices at exactly the same position count as one (meshes exported with split UV or
+/// normal seams have duplicated vertices; the triangles on both sides of such a seam are
+/// neighbours, not an intersection).
+///
 /// Broad phase: every triangle is filed in all hash cells its AABB overlaps; two triangles are
 /// candidates when they share a cell, and a pair is examined only in its *first* shared cell
 /// (the componentwise max of the two AABBs' lowest cells), so it is counted once without a set
@@ -38,6 +42,14 @@ pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -
             return Err(TailorError::index(format!("cloth triangle {t}"), v as i64, n, "vertices"));
         }
     }
+    // Weld by exact position (-0.0 and 0.0 alike) so split seams keep their adjacency.
+    let mut canonical = std::collections::HashMap::with_capacity(vertices.len());
+    let weld: Vec<u32> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, p)| *canonical.entry(p.map(|c| (c + 0.0).to_bits())).or_insert(i as u32))
+        .collect();
+    let welded = |t: u32| triangles[t as usize].map(|v| weld[v as usize]);
     let l = aabb_cell_size(vertices, triangles);
     let mut hash = ColliderHash::new();
     hash.build(vertices, triangles, l, InsertionRule::Aabb)?;
@@ -48,7 +60,7 @@ pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -
             let ti = tri(i);
             let (lo_i, hi_i) = aabb_cells(ti, l);
             let (bmin_i, bmax_i) = (ti[0].min(ti[1]).min(ti[2]), ti[0].max(ti[1]).max(ti[2]));
-            let vi = triangles[i as usize];
+            let vi = welded(i);
             let mut found = 0usize;
             for z in lo_i[2]..=hi_i[2] {
                 for y in lo_i[1]..=hi_i[1] {
@@ -66,7 +78,7 @@ pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -
                             if bmin_i.cmpgt(bmax_j).any() || bmin_j.cmpgt(bmax_i).any() {
                                 continue;
                             }
-                            let vj = triangles[j as usize];
+                            let vj = welded(j);
                             if vi.iter().any(|v| vj.contains(v)) {
                                 continue;
                             }

@@ -2,16 +2,19 @@
 //!
 //! Each particle is filed in the cell containing it (hash of Eq. 1-3, cell side `l`). Two
 //! particles closer than `2r ≤ l` differ by less than `l` along every axis, so their cells
-//! differ by at most one along every axis: each particle `i` therefore visits the 27 cells
-//! `cell(i) + (dx, dy, dz)`, `d ∈ {-1, 0, 1}³`, and in each takes only the entries with that
-//! cell's `cell_id` (never the other cells sharing the bucket). A pair is reported once, from
-//! its smaller index (`j > i`), when `|x_i − x_j|² < (2r)²` and the exclusion predicate does
-//! not reject it: particles joined by an edge, a triangle or a seam are meant to be close and
-//! must never repel.
+//! differ by at most one along every axis: the pair lies within the 27-cell block around
+//! either particle. Each cell pair is visited once, from one side: particle `i` visits its own
+//! cell (taking only `j > i`) and the 13 "forward" neighbours `cell(i) + d` whose last
+//! non-zero offset component is positive; the 13 others are `−d` of these and are covered when
+//! the other particle visits *its* forward cells. In each cell only the entries with that
+//! cell's `cell_id` are taken, never the other cells sharing the bucket. A pair is reported
+//! once, as `[min, max]`, when `|x_i − x_j|² < (2r)²` and the exclusion predicate (called with
+//! `min, max`) does not reject it: particles joined by an edge, a triangle or a seam are meant
+//! to be close and must never repel.
 //!
 //! Work is split in fixed blocks of particles, each with its own reusable pair buffer; the
-//! buffers are concatenated in block order, so the pair list is sorted by `i` and identical
-//! from run to run, and nothing is allocated once the buffers have grown.
+//! buffers are concatenated and sorted, so the pair list is identical from run to run, and
+//! nothing is allocated once the buffers have grown.
 
 use rayon::prelude::*;
 
@@ -19,6 +22,24 @@ use super::hash::SpatialHash;
 use crate::error::{Result, TailorError};
 
 const BLOCK: usize = 512;
+
+/// The 13 neighbour offsets `(dx, dy, dz)` whose last non-zero component is positive: half of
+/// the 26 neighbours, one of each pair `±d`.
+const FORWARD: [[i64; 3]; 13] = [
+    [1, 0, 0],
+    [-1, 1, 0],
+    [0, 1, 0],
+    [1, 1, 0],
+    [-1, -1, 1],
+    [0, -1, 1],
+    [1, -1, 1],
+    [-1, 0, 1],
+    [0, 0, 1],
+    [1, 0, 1],
+    [-1, 1, 1],
+    [0, 1, 1],
+    [1, 1, 1],
+];
 
 /// Particle pairs that never collide, stored as a sorted adjacency list (CSR).
 #[derive(Debug, Clone, Default)]
@@ -84,7 +105,7 @@ impl SelfCollision {
         Self::default()
     }
 
-    /// The pairs of the last search, `[i, j]` with `i < j`, sorted by `i`.
+    /// The pairs of the last search, `[i, j]` with `i < j`, sorted.
     pub fn pairs(&self) -> &[[u32; 2]] {
         &self.pairs
     }
@@ -131,31 +152,30 @@ impl SelfCollision {
             for i in b * BLOCK..((b + 1) * BLOCK).min(n) {
                 let p = [x[i], y[i], z[i]];
                 let c = hash.cell_of(p);
-                for dz in -1..=1 {
-                    for dy in -1..=1 {
-                        for dx in -1..=1 {
-                            for j in hash.query_cell([c[0] + dx, c[1] + dy, c[2] + dz]) {
-                                let ju = j as usize;
-                                if ju <= i {
-                                    continue;
-                                }
-                                let (ex, ey, ez) = (x[ju] - p[0], y[ju] - p[1], z[ju] - p[2]);
-                                if ex * ex + ey * ey + ez * ez < d2max && !exclude(i as u32, j) {
-                                    out.push([i as u32, j]);
-                                }
-                            }
-                        }
+                let mut test = |j: u32| {
+                    let ju = j as usize;
+                    let (ex, ey, ez) = (x[ju] - p[0], y[ju] - p[1], z[ju] - p[2]);
+                    let pair = if ju < i { [j, i as u32] } else { [i as u32, j] };
+                    if ex * ex + ey * ey + ez * ez < d2max && !exclude(pair[0], pair[1]) {
+                        out.push(pair);
+                    }
+                };
+                // Own cell: entries are sorted by index, so skip to those after `i`.
+                for j in hash.query_cell(c).skip_while(|&j| j as usize <= i) {
+                    test(j);
+                }
+                for d in FORWARD {
+                    for j in hash.query_cell([c[0] + d[0], c[1] + d[1], c[2] + d[2]]) {
+                        test(j);
                     }
                 }
-                // Cells are visited in a fixed order, but sort so a particle's pairs are by `j`.
-                let start = out.partition_point(|pr| (pr[0] as usize) < i);
-                out[start..].sort_unstable();
             }
         });
         self.pairs.clear();
         for out in &self.blocks[..num_blocks] {
             self.pairs.extend_from_slice(out);
         }
+        self.pairs.par_sort_unstable();
         Ok(&self.pairs)
     }
 }

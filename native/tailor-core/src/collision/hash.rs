@@ -308,3 +308,75 @@ where
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::Rng;
+
+    #[test]
+    fn queries_return_exactly_the_points_of_the_cell() {
+        let mut rng = Rng::new(1);
+        let mut h = SpatialHash::new();
+        for round in 0..10 {
+            let n = 50 + (rng.f32() * 3000.0) as usize;
+            // Clustered points far from the origin, negative coordinates included, so that
+            // many distinct cells share buckets.
+            let centre = rng.vec3(1000.0);
+            let spread = 0.01 + rng.f32();
+            let (mut x, mut y, mut z) = (vec![], vec![], vec![]);
+            for _ in 0..n {
+                let p = centre + rng.vec3(spread);
+                x.push(p.x);
+                y.push(p.y);
+                z.push(p.z);
+            }
+            let l = 0.01 + 0.1 * rng.f32();
+            h.build_points(&x, &y, &z, l).unwrap();
+            assert_eq!(h.num_entries(), n);
+            assert!(h.num_buckets() >= 2 * n && h.num_buckets().is_power_of_two());
+            let cells: Vec<Cell> = (0..n).map(|i| cell_of([x[i], y[i], z[i]], l)).collect();
+            for c in &cells {
+                let got: Vec<u32> = h.query_cell(*c).collect();
+                let want: Vec<u32> = (0..n as u32).filter(|&i| cells[i as usize] == *c).collect();
+                assert_eq!(got, want, "round {round}");
+            }
+            // An empty neighbour cell returns nothing even when its bucket is occupied.
+            let far = [cells[0][0] + 1_000_003, cells[0][1], cells[0][2]];
+            assert!(h.query_cell(far).all(|i| cells[i as usize] == far));
+        }
+    }
+
+    #[test]
+    fn build_is_deterministic_across_thread_counts() {
+        let mut rng = Rng::new(9);
+        let (mut x, mut y, mut z) = (vec![], vec![], vec![]);
+        for _ in 0..20_000 {
+            let p = rng.vec3(0.5);
+            x.push(p.x);
+            y.push(p.y);
+            z.push(p.z);
+        }
+        let build = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut h = SpatialHash::new();
+                h.build_points(&x, &y, &z, 0.02).unwrap();
+                (h.starts.clone(), h.entries.clone())
+            })
+        };
+        assert_eq!(build(1), build(4));
+    }
+
+    #[test]
+    fn cell_id_is_exact_near_the_origin_and_hash_is_eq1() {
+        let c = [3, -2, 5];
+        assert_eq!(cell_id(c), 5 * P1 * P1 - 2 * P1 + 3);
+        assert_eq!(bucket_of(c, 1023), ((3 * P1) ^ (-2 * P2) ^ (5 * P3)).unsigned_abs() as usize % 1024);
+        assert_eq!(cell_of([-0.001, 0.0, 0.0299], 0.01), [-1, 0, 2]);
+        let mut h = SpatialHash::new();
+        assert!(h.build_points(&[0.0], &[0.0], &[0.0], -1.0).is_err());
+        assert!(h.build_points(&[0.0], &[0.0], &[], 1.0).is_err());
+        assert_eq!(h.query_cell([0, 0, 0]).count(), 0);
+    }
+}

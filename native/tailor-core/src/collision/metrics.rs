@@ -198,6 +198,16 @@ mod tests {
             .count();
         assert_eq!(n, brute);
         assert!(n >= 8, "{n}");
+        // Triangles sharing an edge (or a vertex) are adjacent, not intersecting, even with
+        // the shared vertices duplicated (split seams).
+        let quad = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        assert_eq!(count_self_intersections(&quad, &[[0, 1, 2], [0, 2, 3]]).unwrap(), 0);
+        let split = [quad[0], quad[1], quad[2], quad[0], quad[2], quad[3]];
+        assert_eq!(count_self_intersections(&split, &[[0, 1, 2], [3, 4, 5]]).unwrap(), 0);
+        // A third triangle piercing the quad is counted against both halves it crosses.
+        let mut v = quad.to_vec();
+        v.extend([[0.5, 0.5, -1.0], [0.5, 0.5, 1.0], [2.0, 2.0, 0.5]]);
+        assert_eq!(count_self_intersections(&v, &[[0, 1, 2], [0, 2, 3], [4, 5, 6]]).unwrap(), 2);
         // Two separated boxes: none.
         let (v2, _) = box_mesh([2.0; 3], [3.0; 3]);
         let mut v = v1;

@@ -193,16 +193,29 @@ impl ClosedMesh {
         let r_max =
             (0..3).map(|k| (c[k] - self.cell_lo[k]).abs().max((self.cell_hi[k] - c[k]).abs())).max().unwrap_or(0);
         let mut best = (f32::INFINITY, 0u32);
-        let visit = |cell: Cell, best: &mut (f32, u32)| {
-            for t in self.hash.hash().query_cell(cell) {
-                let [a, b, cc] = self.triangles[t as usize].map(|i| Vec3::from(self.vertices[i as usize]));
-                let d = closest_point_on_triangle(pv, a, b, cc).0.distance(pv);
-                if d < best.0 || (d == best.0 && t < best.1) {
-                    *best = (d, t);
-                }
+        let visit_one = |t: u32, best: &mut (f32, u32)| {
+            let [a, b, cc] = self.triangles[t as usize].map(|i| Vec3::from(self.vertices[i as usize]));
+            let d = closest_point_on_triangle(pv, a, b, cc).0.distance(pv);
+            if d < best.0 || (d == best.0 && t < best.1) {
+                *best = (d, t);
             }
         };
+        let visit = |cell: Cell, best: &mut (f32, u32)| {
+            for t in self.hash.hash().query_cell(cell) {
+                visit_one(t, best);
+            }
+        };
+        // Shells grow as r²: past a few times the triangle count in visited cells (a point
+        // far from, or deep inside, a coarse mesh) testing every triangle is cheaper.
+        let budget = 4 * self.triangles.len() as i64 + 27;
         for r in 0..=r_max {
+            if (2 * r + 1).pow(3) > budget {
+                let mut best = (f32::INFINITY, 0u32);
+                for t in 0..self.triangles.len() as u32 {
+                    visit_one(t, &mut best);
+                }
+                return best;
+            }
             for dz in -r..=r {
                 for dy in -r..=r {
                     if dz.abs() == r || dy.abs() == r {
@@ -296,6 +309,10 @@ mod tests {
         // The polyhedron is inscribed in the sphere: depths are smaller by up to the sag.
         assert!((pen.max_depth - want_depth).abs() < 0.01, "{} vs {want_depth}", pen.max_depth);
         assert!((sphere.distance([0.0, 0.0, 0.0]).0 - 1.0).abs() < 0.01);
+        // Far away (brute-force fallback) and absurdly far: still answered, quickly.
+        assert!((sphere.distance([10.0, 0.0, 0.0]).0 - 9.0).abs() < 1e-4);
+        assert!(sphere.distance([3e30, 0.0, 0.0]).0 > 1e30);
+        assert!(!sphere.contains([f32::NAN, 0.0, 0.0]));
 
         // A box, with points on grid lines that hit its edges and vertices exactly.
         let (v, t) = box_mesh([-1.0, -1.0, -1.0], [1.0, 2.0, 3.0]);

@@ -63,11 +63,15 @@ const PRIM_BLOCK: usize = 1024;
 /// Buckets per work item of the bucket-sorting pass.
 const BUCKET_BLOCK: usize = 4096;
 
-/// The cell containing `p` for a cell side `l` (Eq. 2). Non-finite coordinates land in an
-/// arbitrary (saturated) cell rather than panicking.
+/// Cell coordinates are clamped to `±2^62` so that neighbour offsets never overflow.
+const CELL_LIMIT: f32 = 4.6e18;
+
+/// The cell containing `p` for a cell side `l` (Eq. 2). Non-finite or absurdly large
+/// coordinates land in an arbitrary (clamped) cell rather than panicking.
 #[inline]
 pub fn cell_of(p: [f32; 3], l: f32) -> Cell {
-    [(p[0] / l).floor() as i64, (p[1] / l).floor() as i64, (p[2] / l).floor() as i64]
+    let c = |v: f32| (v / l).floor().clamp(-CELL_LIMIT, CELL_LIMIT) as i64;
+    [c(p[0]), c(p[1]), c(p[2])]
 }
 
 /// Eq. 3, wrapping: `iz·p1·p1 + iy·p1 + ix`.

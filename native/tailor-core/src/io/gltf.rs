@@ -236,6 +236,9 @@ impl Ctx<'_> {
             5125 | 5126 => 4,
             c => return Err(self.err(&entity, format!("unknown component type {c}"))),
         };
+        if acc.count > MAX_COUNT {
+            return Err(self.err(&entity, format!("count {} is implausibly large", acc.count)));
+        }
         let Some(view_index) = acc.buffer_view else {
             return Ok((vec![0.0; acc.count * width], width)); // all zeros per the specification
         };
@@ -243,11 +246,10 @@ impl Ctx<'_> {
         let buf = self.buffers.get(view.buffer).ok_or_else(|| self.err(&entity, "missing buffer"))?;
         let elem = width * size;
         let stride = view.byte_stride.unwrap_or(elem).max(elem);
-        let start = view.byte_offset + acc.byte_offset;
-        let need = if acc.count == 0 { 0 } else { (acc.count - 1) * stride + elem };
-        if acc.byte_offset + need > view.byte_length || view.byte_offset + view.byte_length > buf.len() {
+        if !fits(acc.count, stride, elem, acc.byte_offset, view, buf.len()) {
             return Err(self.err(&entity, "reads past the end of its buffer view or buffer"));
         }
+        let start = view.byte_offset + acc.byte_offset;
         let mut out = Vec::with_capacity(acc.count * width);
         for i in 0..acc.count {
             for c in 0..width {
@@ -300,11 +302,10 @@ impl Ctx<'_> {
         let buf = self.buffers.get(view.buffer).ok_or_else(|| self.err(&entity, "missing buffer"))?;
         let elem = 4 * width;
         let stride = view.byte_stride.unwrap_or(elem).max(elem);
-        let start = view.byte_offset + acc.byte_offset;
-        let need = if acc.count == 0 { 0 } else { (acc.count - 1) * stride + elem };
-        if acc.byte_offset + need > view.byte_length || view.byte_offset + view.byte_length > buf.len() {
+        if !fits(acc.count, stride, elem, acc.byte_offset, view, buf.len()) {
             return Err(self.err(&entity, "reads past the end of its buffer view or buffer"));
         }
+        let start = view.byte_offset + acc.byte_offset;
         let mut out = Vec::with_capacity(acc.count * width);
         for i in 0..acc.count {
             for c in 0..width {
@@ -314,6 +315,17 @@ impl Ctx<'_> {
         }
         Ok((out, width))
     }
+}
+
+/// Accessors with more elements than this are refused before anything is allocated.
+const MAX_COUNT: usize = 1 << 28;
+
+/// Whether `count` elements of `elem` bytes every `stride` bytes, from `offset` in `view`,
+/// stay inside the view and the view inside its buffer (computed without overflow).
+fn fits(count: usize, stride: usize, elem: usize, offset: usize, view: &BufferView, buf_len: usize) -> bool {
+    let need = if count == 0 { 0 } else { (count as u128 - 1) * stride as u128 + elem as u128 };
+    offset as u128 + need <= view.byte_length as u128
+        && view.byte_offset as u128 + view.byte_length as u128 <= buf_len as u128
 }
 
 impl GltfScene {

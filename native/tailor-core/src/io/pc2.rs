@@ -55,8 +55,8 @@ pub fn parse_pc2(b: &[u8], file: &str) -> Result<PointCache> {
         return Err(err(format!("negative count: {num_points} points, {num_samples} samples")));
     }
     let (np, ns) = (num_points as usize, num_samples as usize);
-    let expected = HEADER_LEN as u64 + 12 * np as u64 * ns as u64;
-    if b.len() as u64 != expected {
+    let expected = HEADER_LEN as u128 + 12 * np as u128 * ns as u128;
+    if b.len() as u128 != expected {
         return Err(err(format!("{np} points × {ns} samples need {expected} bytes but the file has {}", b.len())));
     }
     let floats: Vec<f32> =

@@ -291,6 +291,21 @@ mod tests {
     }
 
     #[test]
+    fn corrupted_files_never_panic() {
+        let mut rng = crate::test_util::Rng::new(23);
+        for _ in 0..500 {
+            let mut b = ASCII.as_bytes().to_vec();
+            for _ in 0..1 + (rng.f32() * 3.0) as usize {
+                let i = (rng.f32() * b.len() as f32) as usize % b.len();
+                b[i] = (rng.next_u64() & 0xFF) as u8;
+            }
+            let _ = parse_ply(&b, "fuzz.ply");
+            let cut = (rng.f32() * b.len() as f32) as usize;
+            let _ = parse_ply(&b[..cut], "fuzz.ply");
+        }
+    }
+
+    #[test]
     fn reports_bad_headers_and_indices() {
         let e = parse_ply(b"obj\n", "x.ply").unwrap_err();
         assert!(e.to_string().contains("not a PLY file"), "{e}");

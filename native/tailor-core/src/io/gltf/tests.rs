@@ -103,6 +103,19 @@ fn malformed_glb_is_reported_not_panicked() {
         let e = GltfScene::from_glb(&glb[..cut], "cut.glb").unwrap_err();
         assert!(e.to_string().starts_with("cut.glb"), "{e}");
     }
+    // Random byte corruption: errors or a scene, never a panic.
+    let mut rng = crate::test_util::Rng::new(17);
+    for _ in 0..300 {
+        let mut b = glb.clone();
+        for _ in 0..1 + (rng.f32() * 4.0) as usize {
+            let i = (rng.f32() * b.len() as f32) as usize % b.len();
+            b[i] = (rng.next_u64() & 0xFF) as u8;
+        }
+        if let Ok(scene) = GltfScene::from_glb(&b, "fuzz.glb") {
+            let mut p = Vec::new();
+            let _ = scene.positions_at(Some(0), 0.3, &mut p);
+        }
+    }
     // Index past the vertex count.
     let e = GltfScene::from_glb(&glb_with_position_count(2), "bad.glb").unwrap_err();
     assert!(e.to_string().contains("out of range"), "{e}");

@@ -125,13 +125,9 @@ impl Pc2Writer {
     /// Appends one sample.
     pub fn push_frame(&mut self, points: &[[f32; 3]]) -> Result<()> {
         self.check_len(points.len())?;
-        let mut buf = Vec::with_capacity(12 * points.len());
         for p in points {
-            for c in p {
-                buf.extend(c.to_le_bytes());
-            }
+            self.write(&xyz_bytes(p[0], p[1], p[2]))?;
         }
-        self.write(&buf)?;
         self.num_samples += 1;
         Ok(())
     }
@@ -141,13 +137,9 @@ impl Pc2Writer {
         self.check_len(x.len())?;
         self.check_len(y.len())?;
         self.check_len(z.len())?;
-        let mut buf = Vec::with_capacity(12 * x.len());
         for i in 0..x.len() {
-            for c in [x[i], y[i], z[i]] {
-                buf.extend(c.to_le_bytes());
-            }
+            self.write(&xyz_bytes(x[i], y[i], z[i]))?;
         }
-        self.write(&buf)?;
         self.num_samples += 1;
         Ok(())
     }
@@ -184,6 +176,14 @@ impl Pc2Writer {
         let out = self.out.as_mut().expect("writer present until finish");
         out.write_all(bytes).map_err(|e| TailorError::io(self.temp.display().to_string(), e))
     }
+}
+
+fn xyz_bytes(x: f32, y: f32, z: f32) -> [u8; 12] {
+    let mut b = [0u8; 12];
+    b[..4].copy_from_slice(&x.to_le_bytes());
+    b[4..8].copy_from_slice(&y.to_le_bytes());
+    b[8..].copy_from_slice(&z.to_le_bytes());
+    b
 }
 
 impl Drop for Pc2Writer {

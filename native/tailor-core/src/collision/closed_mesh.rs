@@ -22,6 +22,8 @@
 //! cell; a triangle not yet seen lies in cells at distance `> r`, hence at least `r·l` away, so
 //! the search stops as soon as the best distance found is `≤ r·l`.
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
 use glam::{DVec2, Vec3};
 use rayon::prelude::*;
 
@@ -186,6 +188,12 @@ impl ClosedMesh {
 
     /// Distance from `p` to the surface and the nearest triangle.
     pub fn distance(&self, p: [f32; 3]) -> (f32, u32) {
+        self.distance_unless_below(p, -1.0)
+    }
+
+    /// [`ClosedMesh::distance`], except that the search may stop, returning any distance
+    /// `≤ floor`, as soon as it knows the true distance is at most `floor`.
+    fn distance_unless_below(&self, p: [f32; 3], floor: f32) -> (f32, u32) {
         let pv = Vec3::from(p);
         let l = self.cell;
         let c = self.hash.hash().cell_of(p);
@@ -230,7 +238,7 @@ impl ClosedMesh {
                     }
                 }
             }
-            if best.0 <= r as f32 * l {
+            if best.0 <= r as f32 * l || best.0 <= floor {
                 break;
             }
         }
@@ -239,11 +247,17 @@ impl ClosedMesh {
 
     /// Number of points inside and the largest distance of an inside point to the surface.
     pub fn penetration(&self, points: &[[f32; 3]]) -> Penetration {
+        // Only the deepest point matters: a search may stop once it cannot beat the deepest
+        // found so far (positive f32 bits order like the floats).
+        let deepest = AtomicU32::new(0);
         points
             .par_iter()
             .map(|&p| {
                 if self.contains(p) {
-                    Penetration { count: 1, max_depth: self.distance(p).0 }
+                    let floor = f32::from_bits(deepest.load(Ordering::Relaxed));
+                    let d = self.distance_unless_below(p, floor).0;
+                    deepest.fetch_max(d.to_bits(), Ordering::Relaxed);
+                    Penetration { count: 1, max_depth: d }
                 } else {
                     Penetration::default()
                 }

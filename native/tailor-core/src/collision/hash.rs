@@ -18,12 +18,14 @@
 //!
 //! ## How unique `cell_id` is
 //!
-//! Eq. 3 is a mixed-radix number with radix `p1`. It is exact (two distinct cells never share
-//! an id) as long as the cells differ by less than `p1 / 2 ≈ 3.7e7` in x and y and by less than
-//! `2^63 / p1² ≈ 1692` in z; beyond that the `i64` product wraps and two cells *may* share an
-//! id, but they must then also share a bucket (probability ≈ `1/n`) to be confused. With
-//! centimetre cells that is a 17 m tall scene before the question even arises. For the
-//! 27-cell neighbourhoods of the self-collider (differences of at most 2) it is always exact.
+//! Eq. 3 is a mixed-radix number with radix `p1`, computed modulo `2^64`. Two cells differing
+//! by `(dx, dy, dz)` get the same id iff `dx + p1·dy + p1²·dz ≡ 0 (mod 2^64)`. With
+//! `|dx| < p1`, `|dy| < p1 − 1` the first two terms stay below `p1²` in magnitude, so a
+//! non-zero `dz` cannot cancel them, and with `|dz| < 2^64 / p1² − 1 ≈ 3380` the sum cannot
+//! reach `2^64`: the id is exact for cells less than `7.3e7` apart in x and y and `3380` apart
+//! in z (33 m with centimetre cells). Farther apart, two cells *may* share an id, but they must
+//! then also share a bucket (probability ≈ `1/n`) to be confused. For the 27-cell
+//! neighbourhoods of the self-collider it is always exact.
 //!
 //! ## Build: a parallel counting sort
 //!
@@ -51,7 +53,8 @@
 //! mirrored through an axis, e.g. `(x, y, z)` and `(−x, y, −z)`, land in the same bucket far
 //! more often than chance. A mirror-symmetric body therefore sees more shared buckets than a
 //! random hash would give (on the body above, 34 % of the cells share their bucket with another
-//! cell where a uniform hash would give 13 %). Correctness is unaffected (the `cell_id` check), only the length of some scans.
+//! cell where a uniform hash would give 13 %). Correctness is unaffected (the `cell_id`
+//! check), only the length of some scans.
 
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 

@@ -17,12 +17,18 @@
 //! * [`placement`]: initial 3D positions from a pattern's placement, or a flat layout.
 //! * [`scenes`]: procedural scenes (rectangles, a sewn tube) for tests, benchmarks and the demo.
 //! * [`garment_file`]: the versioned garment file (JSON manifest plus binary sidecar).
+//! * [`collision`]: the spatial hash of Nylén et al. 2020 and the collision kernels built on
+//!   it (mesh collider, self-collision pairs, intersection tests, quality metrics).
+//! * [`io`]: triangle meshes from OBJ, PLY and glTF (skinned animation included) and the
+//!   Point Cache 2 vertex-animation format.
 //!
 //! The `tailor` Python module (crate `tailor-py`) is a thin layer over this crate.
 
 pub mod bend;
+pub mod collision;
 pub mod error;
 pub mod garment_file;
+pub mod io;
 pub mod mesh;
 pub mod pattern;
 pub mod placement;
@@ -30,5 +36,8 @@ pub mod scenes;
 pub mod seam;
 pub mod solver;
 pub mod triangulate;
+
+#[cfg(test)]
+mod test_util;
 
 pub use error::{Result, TailorError};

@@ -1,9 +1,14 @@
 //! `tailor._tailor`: the thin Python layer over `tailor-core`.
 //!
-//! Arrays cross as numpy float32/uint32; every solve releases the GIL; every core error becomes
-//! one typed Python exception (see [`errors`]). Nothing here holds physics or geometry logic.
+//! Arrays cross as numpy float32/integer arrays; every solve releases the GIL; every core error
+//! becomes one typed Python exception (see [`errors`]). Nothing here holds physics or geometry
+//! logic: each function converts its arguments, calls the core, and converts the result.
 
+mod convert;
 mod errors;
+mod scenes;
+mod settings;
+mod simulation;
 
 use pyo3::prelude::*;
 
@@ -11,5 +16,9 @@ use pyo3::prelude::*;
 fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
+    m.add_class::<settings::Fabric>()?;
+    m.add_class::<settings::Settings>()?;
+    m.add_class::<simulation::Simulation>()?;
+    m.add_function(wrap_pyfunction!(scenes::sewn_tube, m)?)?;
     Ok(())
 }

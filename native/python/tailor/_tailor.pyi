@@ -1,0 +1,132 @@
+"""Type stubs of the native extension ``tailor._tailor`` (checked against the built module by
+``tests/test_stub.py``)."""
+
+from typing import Any, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+F32 = npt.NDArray[np.float32]
+
+class TailorError(Exception):
+    """Base class of every error Tailor raises."""
+
+class InvalidMeshError(TailorError, ValueError): ...
+class InvalidParameterError(TailorError, ValueError): ...
+class SeamError(TailorError, ValueError): ...
+class PatternError(TailorError, ValueError): ...
+class TailorIOError(TailorError, OSError): ...
+class SimulationError(TailorError, RuntimeError): ...
+class CancelledError(TailorError): ...
+
+class Fabric:
+    density: float
+    stretch: float
+    shear: float
+    bend: float
+    def __init__(
+        self,
+        density: float | None = None,
+        stretch: float | None = None,
+        shear: float | None = None,
+        bend: float | None = None,
+    ) -> None: ...
+
+class Settings:
+    substeps: int
+    iterations: int
+    tolerance: float
+    method: str
+    gravity: tuple[float, float, float]
+    air_damping: float
+    ramp_enabled: bool
+    ramp_closing_damping: float
+    ramp_gap_threshold: float
+    ramp_closed_fraction: float
+    ramp_release_time: float
+    chebyshev_rho: float | None
+    colouring_seed: int
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class Simulation:
+    num_particles: int
+    num_triangles: int
+    positions: F32
+    velocities: F32
+    masses: F32
+    settings: Settings
+    thickness: float
+    def __init__(
+        self,
+        positions: ArrayLike,
+        triangles_: ArrayLike,
+        rest: ArrayLike,
+        fabric: Fabric | None = None,
+        settings: Settings | None = None,
+    ) -> None: ...
+    def set_mass_scale(self, scale: ArrayLike) -> None: ...
+    def set_triangle_stiffness(self, stretch: ArrayLike, shear: ArrayLike) -> None: ...
+    def set_bending_rest_pose(self, pose: ArrayLike | None = None) -> None: ...
+    def add_seam(
+        self, a: ArrayLike, b: ArrayLike, stiffness: float = 1000.0, bend_stiffness: float = 1e-5, name: str = "seam"
+    ) -> int: ...
+    def add_weighted_seam(
+        self,
+        a_vertices: ArrayLike,
+        a_weights: ArrayLike,
+        b_vertices: ArrayLike,
+        b_weights: ArrayLike,
+        stiffness: float = 1000.0,
+        bend_stiffness: float = 1e-5,
+        name: str = "seam",
+    ) -> int: ...
+    def pin(self, particles: ArrayLike, targets: ArrayLike | None = None) -> None: ...
+    def unpin(self, particles: ArrayLike) -> None: ...
+    def add_attachments(self, particles: ArrayLike, targets: ArrayLike, weight: float) -> None: ...
+    def set_attachment_targets(self, targets: ArrayLike) -> None: ...
+    def add_sphere_collider(
+        self,
+        center: Sequence[float],
+        radius: float,
+        static_friction: float = 0.5,
+        kinetic_friction: float = 0.3,
+    ) -> None: ...
+    def add_plane_collider(
+        self,
+        point: Sequence[float],
+        normal: Sequence[float],
+        static_friction: float = 0.5,
+        kinetic_friction: float = 0.3,
+    ) -> None: ...
+    def add_capsule_collider(
+        self,
+        a: Sequence[float],
+        b: Sequence[float],
+        radius: float,
+        static_friction: float = 0.5,
+        kinetic_friction: float = 0.3,
+    ) -> None: ...
+    def step(self, dt: float, frames: int = 1) -> dict[str, Any]: ...
+    def seam_gaps(self) -> tuple[float, float]: ...
+    def colour_count(self) -> int: ...
+    def state_hash(self) -> int: ...
+    def measure_step(
+        self,
+        dt: float,
+        method: str = "chebyshev",
+        iterations: int = 100,
+        reference_iterations: int = 5000,
+        reference_tolerance: float = 1e-7,
+    ) -> dict[str, Any]: ...
+
+def sewn_tube(
+    width: float = 0.5,
+    height: float = 0.6,
+    edge: float = 0.02,
+    gap: float = 0.1,
+    bottom: float = 0.0,
+    seam_stiffness: float = 1000.0,
+) -> dict[str, Any]: ...

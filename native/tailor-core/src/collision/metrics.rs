@@ -1,0 +1,241 @@
+//! Quality metrics of a simulated frame (reported to the user, later exposed to Python).
+//!
+//! * penetration: points of the cloth inside the closed body ([`ClosedMesh`]);
+//! * self-intersections: pairs of non-adjacent cloth triangles that intersect;
+//! * edge strain: `|ℓ / ℓ₀ − 1|` per edge, max and mean;
+//! * kinetic energy: `½ Σ mᵢ |vᵢ|²` (in `f64`: it is a sum of many small terms);
+//! * seam gap: the largest distance between the two sides of a seam.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::closed_mesh::{aabb_cell_size, ClosedMesh, Penetration};
+use super::collider_hash::{aabb_cells, ColliderHash, InsertionRule};
+use super::intersect::triangles_intersect;
+use crate::error::{Result, TailorError};
+
+/// Penetration of `points` into the closed mesh `(vertices, triangles)`: count and largest
+/// depth. Build a [`ClosedMesh`] yourself to query several point sets against one body.
+pub fn penetration(points: &[[f32; 3]], vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Result<Penetration> {
+    Ok(ClosedMesh::new(vertices, triangles)?.penetration(points))
+}
+
+/// Number of intersecting pairs of triangles that share no vertex.
+///
+/// Vertices at exactly the same position count as one (meshes exported with split UV or
+/// normal seams have duplicated vertices; the triangles on both sides of such a seam are
+/// neighbours, not an intersection).
+///
+/// Broad phase: every triangle is filed in all hash cells its AABB overlaps; two triangles are
+/// candidates when they share a cell, and a pair is examined only in its *first* shared cell
+/// (the componentwise max of the two AABBs' lowest cells), so it is counted once without a set
+/// of seen pairs. Narrow phase: AABB overlap, then [`triangles_intersect`]. Triangles sharing a
+/// vertex touch by construction and are skipped (so a crossing between two triangles of one
+/// fan is not counted).
+pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Result<usize> {
+    if triangles.is_empty() {
+        return Ok(0);
+    }
+    let n = vertices.len();
+    for (t, tri) in triangles.iter().enumerate() {
+        if let Some(&v) = tri.iter().find(|&&v| v as usize >= n) {
+            return Err(TailorError::index(format!("cloth triangle {t}"), v as i64, n, "vertices"));
+        }
+    }
+    // Weld by exact position (-0.0 and 0.0 alike) so split seams keep their adjacency.
+    let mut canonical = std::collections::HashMap::with_capacity(vertices.len());
+    let weld: Vec<u32> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, p)| *canonical.entry(p.map(|c| (c + 0.0).to_bits())).or_insert(i as u32))
+        .collect();
+    let welded = |t: u32| triangles[t as usize].map(|v| weld[v as usize]);
+    let l = aabb_cell_size(vertices, triangles);
+    let mut hash = ColliderHash::new();
+    hash.build(vertices, triangles, l, InsertionRule::Aabb)?;
+    let tri = |t: u32| triangles[t as usize].map(|i| Vec3::from(vertices[i as usize]));
+    let count = (0..triangles.len() as u32)
+        .into_par_iter()
+        .map(|i| {
+            let ti = tri(i);
+            let (lo_i, hi_i) = aabb_cells(ti, l);
+            let (bmin_i, bmax_i) = (ti[0].min(ti[1]).min(ti[2]), ti[0].max(ti[1]).max(ti[2]));
+            let vi = welded(i);
+            let mut found = 0usize;
+            for z in lo_i[2]..=hi_i[2] {
+                for y in lo_i[1]..=hi_i[1] {
+                    for x in lo_i[0]..=hi_i[0] {
+                        for j in hash.hash().query_cell([x, y, z]) {
+                            if j <= i {
+                                continue;
+                            }
+                            let tj = tri(j);
+                            let (lo_j, _) = aabb_cells(tj, l);
+                            if [x, y, z] != [lo_i[0].max(lo_j[0]), lo_i[1].max(lo_j[1]), lo_i[2].max(lo_j[2])] {
+                                continue;
+                            }
+                            let (bmin_j, bmax_j) = (tj[0].min(tj[1]).min(tj[2]), tj[0].max(tj[1]).max(tj[2]));
+                            if bmin_i.cmpgt(bmax_j).any() || bmin_j.cmpgt(bmax_i).any() {
+                                continue;
+                            }
+                            let vj = welded(j);
+                            if vi.iter().any(|v| vj.contains(v)) {
+                                continue;
+                            }
+                            if triangles_intersect(ti, tj) {
+                                found += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            found
+        })
+        .sum();
+    Ok(count)
+}
+
+/// Max and mean of `|ℓ / ℓ₀ − 1|` over edges.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Strain {
+    pub max: f32,
+    pub mean: f32,
+}
+
+/// Edge strain of `positions` for `edges` with rest lengths `rest_lengths` (metres, > 0).
+pub fn edge_strain(positions: &[[f32; 3]], edges: &[[u32; 2]], rest_lengths: &[f32]) -> Result<Strain> {
+    if edges.len() != rest_lengths.len() {
+        return Err(TailorError::shape(
+            "edge strain",
+            format!("{} edges but {} rest lengths", edges.len(), rest_lengths.len()),
+        ));
+    }
+    let n = positions.len();
+    let mut max = 0.0f32;
+    let mut sum = 0.0f64;
+    for (k, (&[a, b], &l0)) in edges.iter().zip(rest_lengths).enumerate() {
+        if let Some(&v) = [a, b].iter().find(|&&v| v as usize >= n) {
+            return Err(TailorError::index(format!("edge {k}"), v as i64, n, "vertices"));
+        }
+        if !(l0.is_finite() && l0 > 0.0) {
+            return Err(TailorError::shape(
+                "edge strain",
+                format!("edge {k} has rest length {l0}; it must be positive"),
+            ));
+        }
+        let l = Vec3::from(positions[a as usize]).distance(Vec3::from(positions[b as usize]));
+        let s = (l / l0 - 1.0).abs();
+        max = max.max(s);
+        sum += s as f64;
+    }
+    Ok(Strain { max, mean: (sum / edges.len().max(1) as f64) as f32 })
+}
+
+/// Kinetic energy `½ Σ mᵢ |vᵢ|²`, joules.
+pub fn kinetic_energy(velocities: &[[f32; 3]], masses: &[f32]) -> Result<f64> {
+    if velocities.len() != masses.len() {
+        return Err(TailorError::shape(
+            "kinetic energy",
+            format!("{} velocities but {} masses", velocities.len(), masses.len()),
+        ));
+    }
+    Ok(velocities.iter().zip(masses).map(|(v, &m)| 0.5 * m as f64 * Vec3::from(*v).length_squared() as f64).sum())
+}
+
+/// [`kinetic_energy`] for structure-of-arrays velocities (the solver's layout).
+pub fn kinetic_energy_soa(vx: &[f32], vy: &[f32], vz: &[f32], masses: &[f32]) -> Result<f64> {
+    let n = masses.len();
+    if vx.len() != n || vy.len() != n || vz.len() != n {
+        return Err(TailorError::shape(
+            "kinetic energy",
+            format!("velocity arrays of lengths {}, {}, {} for {n} masses", vx.len(), vy.len(), vz.len()),
+        ));
+    }
+    Ok((0..n).map(|i| 0.5 * masses[i] as f64 * (vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) as f64).sum())
+}
+
+/// Largest distance between the two points of any pair (0 for no pairs).
+pub fn max_seam_gap(positions: &[[f32; 3]], pairs: &[[u32; 2]]) -> Result<f32> {
+    let n = positions.len();
+    let mut gap = 0.0f32;
+    for (k, &[a, b]) in pairs.iter().enumerate() {
+        if let Some(&v) = [a, b].iter().find(|&&v| v as usize >= n) {
+            return Err(TailorError::index(format!("seam pair {k}"), v as i64, n, "vertices"));
+        }
+        gap = gap.max(Vec3::from(positions[a as usize]).distance(Vec3::from(positions[b as usize])));
+    }
+    Ok(gap)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::{box_mesh, icosphere};
+
+    #[test]
+    fn self_intersections_of_constructed_meshes() {
+        // A closed sphere does not intersect itself.
+        let (v, t) = icosphere(3, 1.0);
+        assert_eq!(count_self_intersections(&v, &t).unwrap(), 0);
+        // Two boxes overlapping as one mesh: each crossing face pair is counted once.
+        let (v1, t1) = box_mesh([0.0; 3], [1.0; 3]);
+        let (v2, t2) = box_mesh([0.5, 0.25, 0.25], [1.5, 0.75, 0.75]);
+        let mut v = v1.clone();
+        v.extend(v2);
+        let mut t = t1.clone();
+        t.extend(t2.iter().map(|tri| tri.map(|i| i + 8)));
+        // Box 2 pierces face x = 1 of box 1 with its four side faces (8 triangles); each of
+        // them crosses one or both triangles of that face.
+        let n = count_self_intersections(&v, &t).unwrap();
+        let brute = (0..t.len())
+            .flat_map(|i| (i + 1..t.len()).map(move |j| (i, j)))
+            .filter(|&(i, j)| !t[i].iter().any(|x| t[j].contains(x)))
+            .filter(|&(i, j)| {
+                let a = t[i].map(|k| Vec3::from(v[k as usize]));
+                let b = t[j].map(|k| Vec3::from(v[k as usize]));
+                triangles_intersect(a, b)
+            })
+            .count();
+        assert_eq!(n, brute);
+        assert!(n >= 8, "{n}");
+        // Triangles sharing an edge (or a vertex) are adjacent, not intersecting, even with
+        // the shared vertices duplicated (split seams).
+        let quad = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        assert_eq!(count_self_intersections(&quad, &[[0, 1, 2], [0, 2, 3]]).unwrap(), 0);
+        let split = [quad[0], quad[1], quad[2], quad[0], quad[2], quad[3]];
+        assert_eq!(count_self_intersections(&split, &[[0, 1, 2], [3, 4, 5]]).unwrap(), 0);
+        // A third triangle piercing the quad is counted against both halves it crosses.
+        let mut v = quad.to_vec();
+        v.extend([[0.5, 0.5, -1.0], [0.5, 0.5, 1.0], [2.0, 2.0, 0.5]]);
+        assert_eq!(count_self_intersections(&v, &[[0, 1, 2], [0, 2, 3], [4, 5, 6]]).unwrap(), 2);
+        // Two separated boxes: none.
+        let (v2, _) = box_mesh([2.0; 3], [3.0; 3]);
+        let mut v = v1;
+        v.extend(v2);
+        assert_eq!(count_self_intersections(&v, &t).unwrap(), 0);
+    }
+
+    #[test]
+    fn strain_energy_and_seam_gap() {
+        let p = [[0.0, 0.0, 0.0], [1.1, 0.0, 0.0], [0.0, 0.9, 0.0]];
+        let s = edge_strain(&p, &[[0, 1], [0, 2]], &[1.0, 1.0]).unwrap();
+        assert!((s.max - 0.1).abs() < 1e-6 && (s.mean - 0.1).abs() < 1e-6);
+        assert!(edge_strain(&p, &[[0, 3]], &[1.0]).is_err());
+        assert!(edge_strain(&p, &[[0, 1]], &[0.0]).is_err());
+        let e = kinetic_energy(&[[1.0, 0.0, 0.0], [0.0, 2.0, 0.0]], &[2.0, 0.5]).unwrap();
+        assert!((e - 2.0).abs() < 1e-12);
+        let e2 = kinetic_energy_soa(&[1.0, 0.0], &[0.0, 2.0], &[0.0, 0.0], &[2.0, 0.5]).unwrap();
+        assert_eq!(e, e2);
+        assert!(kinetic_energy(&[[0.0; 3]], &[]).is_err());
+        assert!((max_seam_gap(&p, &[[1, 2], [0, 1]]).unwrap() - (1.21f32 + 0.81).sqrt()).abs() < 1e-6);
+        assert!(max_seam_gap(&p, &[[1, 9]]).is_err());
+    }
+
+    #[test]
+    fn penetration_of_points_in_a_sphere() {
+        let (v, t) = icosphere(3, 1.0);
+        let pen = penetration(&[[0.0, 0.0, 0.5], [0.0, 0.2, 0.0], [2.0, 0.0, 0.0]], &v, &t).unwrap();
+        assert_eq!(pen.count, 2);
+        assert!((pen.max_depth - 0.8).abs() < 0.01, "{}", pen.max_depth);
+    }
+}

@@ -1,0 +1,161 @@
+//! `tailor.Fabric` and `tailor.Settings`: plain value objects mirroring the core's settings.
+//! Validation happens in the core when they are applied, so errors are the core's.
+
+use pyo3::prelude::*;
+use tailor_core::solver::{self as core, Method};
+use tailor_core::TailorError;
+
+use crate::errors::to_py;
+
+/// Material of a garment piece (SI units).
+#[pyclass(module = "tailor", get_all, set_all, from_py_object)]
+#[derive(Clone)]
+pub struct Fabric {
+    /// Area density, kg/m².
+    pub density: f32,
+    /// Stretch stiffness along warp and weft, N/m.
+    pub stretch: f32,
+    /// Shear stiffness, N/m.
+    pub shear: f32,
+    /// Bending stiffness, N·m.
+    pub bend: f32,
+}
+
+#[pymethods]
+impl Fabric {
+    #[new]
+    #[pyo3(signature = (density=None, stretch=None, shear=None, bend=None))]
+    fn new(density: Option<f32>, stretch: Option<f32>, shear: Option<f32>, bend: Option<f32>) -> Self {
+        let d = core::Fabric::default();
+        Self {
+            density: density.unwrap_or(d.density),
+            stretch: stretch.unwrap_or(d.stretch),
+            shear: shear.unwrap_or(d.shear),
+            bend: bend.unwrap_or(d.bend),
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Fabric(density={}, stretch={}, shear={}, bend={})", self.density, self.stretch, self.shear, self.bend)
+    }
+}
+
+impl From<&Fabric> for core::Fabric {
+    fn from(f: &Fabric) -> Self {
+        core::Fabric { density: f.density, stretch: f.stretch, shear: f.shear, bend: f.bend }
+    }
+}
+
+/// Solver settings. `method` is "chebyshev", "gauss_seidel" or "jacobi".
+#[pyclass(module = "tailor", get_all, set_all, from_py_object)]
+#[derive(Clone)]
+pub struct Settings {
+    pub substeps: u32,
+    pub iterations: u32,
+    /// Relative residual at which a substep stops early (0 = always run `iterations`).
+    pub tolerance: f32,
+    pub method: String,
+    pub gravity: [f32; 3],
+    /// Base air damping, 1/s.
+    pub air_damping: f32,
+    pub ramp_enabled: bool,
+    pub ramp_closing_damping: f32,
+    pub ramp_gap_threshold: f32,
+    pub ramp_closed_fraction: f32,
+    pub ramp_release_time: f32,
+    /// Fixed Chebyshev spectral radius; None = measured automatically.
+    pub chebyshev_rho: Option<f32>,
+    pub colouring_seed: u64,
+}
+
+#[pymethods]
+impl Settings {
+    #[new]
+    #[pyo3(signature = (**kwargs))]
+    fn new(py: Python<'_>, kwargs: Option<&Bound<'_, pyo3::types::PyDict>>) -> PyResult<Self> {
+        let obj = Bound::new(py, Self::from(&core::SolverSettings::default()))?;
+        if let Some(kw) = kwargs {
+            for (k, v) in kw.iter() {
+                let name: String = k.extract()?;
+                if !obj.hasattr(name.as_str())? {
+                    return Err(pyo3::exceptions::PyTypeError::new_err(format!("Settings has no field {name:?}")));
+                }
+                obj.setattr(name.as_str(), v)?;
+            }
+        }
+        let out = obj.borrow().clone();
+        Ok(out)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Settings(substeps={}, iterations={}, tolerance={}, method={:?}, gravity={:?}, air_damping={})",
+            self.substeps, self.iterations, self.tolerance, self.method, self.gravity, self.air_damping
+        )
+    }
+}
+
+impl From<&core::SolverSettings> for Settings {
+    fn from(s: &core::SolverSettings) -> Self {
+        Self {
+            substeps: s.substeps,
+            iterations: s.iterations,
+            tolerance: s.tolerance,
+            method: method_name(s.method).into(),
+            gravity: s.gravity,
+            air_damping: s.air_damping,
+            ramp_enabled: s.ramp.enabled,
+            ramp_closing_damping: s.ramp.closing_damping,
+            ramp_gap_threshold: s.ramp.gap_threshold,
+            ramp_closed_fraction: s.ramp.closed_fraction,
+            ramp_release_time: s.ramp.release_time,
+            chebyshev_rho: s.chebyshev.rho,
+            colouring_seed: s.colouring_seed,
+        }
+    }
+}
+
+impl Settings {
+    pub fn to_core(&self) -> PyResult<core::SolverSettings> {
+        let d = core::SolverSettings::default();
+        Ok(core::SolverSettings {
+            substeps: self.substeps,
+            iterations: self.iterations,
+            tolerance: self.tolerance,
+            method: parse_method(&self.method)?,
+            gravity: self.gravity,
+            air_damping: self.air_damping,
+            ramp: core::SeamRamp {
+                enabled: self.ramp_enabled,
+                closing_damping: self.ramp_closing_damping,
+                gap_threshold: self.ramp_gap_threshold,
+                closed_fraction: self.ramp_closed_fraction,
+                release_time: self.ramp_release_time,
+            },
+            chebyshev: core::ChebyshevSettings { rho: self.chebyshev_rho, ..d.chebyshev },
+            colouring_seed: self.colouring_seed,
+            ..d
+        })
+    }
+}
+
+pub fn parse_method(name: &str) -> PyResult<Method> {
+    match name {
+        "chebyshev" => Ok(Method::Chebyshev),
+        "gauss_seidel" => Ok(Method::GaussSeidel),
+        "jacobi" => Ok(Method::Jacobi),
+        other => Err(to_py(TailorError::setting(
+            "method",
+            other,
+            "expected \"chebyshev\", \"gauss_seidel\" or \"jacobi\"",
+        ))),
+    }
+}
+
+pub fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::Chebyshev => "chebyshev",
+        Method::GaussSeidel => "gauss_seidel",
+        Method::Jacobi => "jacobi",
+    }
+}

@@ -1,0 +1,302 @@
+//! `tailor.Simulation`: the core solver behind a Python object. Every solve releases the GIL.
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use tailor_core::mesh::ClothMesh;
+use tailor_core::solver::{
+    self as core, Attachment, ImplicitCollider, RampPhase, ReferenceOptions, Seam, SeamPoint, Shape, StepStats,
+};
+
+use crate::convert::{floats, indices, points2, points3, soa_to_numpy, triangles, vec64_to_numpy, vec_to_numpy};
+use crate::errors::to_py;
+use crate::settings::{parse_method, Fabric, Settings};
+
+/// A cloth simulation: positions (n, 3), triangles (m, 3) and the flat 2D rest shape (n, 2),
+/// all in metres.
+#[pyclass(module = "tailor")]
+pub struct Simulation {
+    inner: core::Simulation,
+}
+
+fn stats_dict<'py>(py: Python<'py>, s: &StepStats) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("substeps", s.substeps)?;
+    d.set_item("iterations", s.iterations)?;
+    d.set_item("residual", s.residual)?;
+    d.set_item("colours", s.colours)?;
+    d.set_item("rho", s.rho)?;
+    let t = PyDict::new(py);
+    t.set_item("prediction", s.timings.prediction)?;
+    t.set_item("local", s.timings.local)?;
+    t.set_item("global", s.timings.global)?;
+    t.set_item("damping", s.timings.damping)?;
+    t.set_item("total", s.timings.total())?;
+    d.set_item("timings", t)?;
+    d.set_item("damping", s.damping)?;
+    let phase = match s.ramp_phase {
+        RampPhase::Closing => "closing",
+        RampPhase::Releasing { .. } => "releasing",
+        RampPhase::Done => "done",
+    };
+    d.set_item("ramp_phase", phase)?;
+    d.set_item("seam_gap_max", s.seam_gap_max)?;
+    d.set_item("seam_closed_fraction", s.seam_closed_fraction)?;
+    d.set_item("contacts", s.contacts)?;
+    Ok(d)
+}
+
+#[pymethods]
+impl Simulation {
+    #[new]
+    #[pyo3(signature = (positions, triangles_, rest, fabric=None, settings=None))]
+    fn new(
+        positions: &Bound<'_, PyAny>,
+        triangles_: &Bound<'_, PyAny>,
+        rest: &Bound<'_, PyAny>,
+        fabric: Option<Fabric>,
+        settings: Option<Settings>,
+    ) -> PyResult<Self> {
+        let mesh = ClothMesh::new(points3(positions, "positions")?, points2(rest, "rest")?, triangles(triangles_, "triangles")?)
+            .map_err(to_py)?;
+        let fabric = fabric.as_ref().map(core::Fabric::from).unwrap_or_default();
+        let settings = match settings {
+            Some(s) => s.to_core()?,
+            None => core::SolverSettings::default(),
+        };
+        Ok(Self { inner: core::Simulation::new(mesh, fabric, settings).map_err(to_py)? })
+    }
+
+    #[getter]
+    fn num_particles(&self) -> usize {
+        self.inner.num_particles()
+    }
+
+    #[getter]
+    fn num_triangles(&self) -> usize {
+        self.inner.model().mesh.num_triangles()
+    }
+
+    /// Positions, a new (n, 3) float32 array.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        soa_to_numpy(py, self.inner.positions())
+    }
+
+    #[setter(positions)]
+    fn set_positions(&mut self, p: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.inner.set_positions(&points3(p, "positions")?).map_err(to_py)
+    }
+
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        soa_to_numpy(py, self.inner.velocities())
+    }
+
+    #[setter(velocities)]
+    fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.inner.set_velocities(&points3(v, "velocities")?).map_err(to_py)
+    }
+
+    /// Particle masses, kg (density × a third of adjacent rest areas × mass scale).
+    #[getter]
+    fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        vec_to_numpy(py, self.inner.masses().to_vec())
+    }
+
+    #[getter]
+    fn settings(&self) -> Settings {
+        Settings::from(self.inner.settings())
+    }
+
+    #[setter(settings)]
+    fn set_settings(&mut self, s: Settings) -> PyResult<()> {
+        self.inner.set_settings(s.to_core()?).map_err(to_py)
+    }
+
+    /// Collision thickness, metres.
+    #[setter(thickness)]
+    fn set_thickness(&mut self, t: f32) -> PyResult<()> {
+        self.inner.set_thickness(t).map_err(to_py)
+    }
+
+    fn set_mass_scale(&mut self, scale: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.inner.set_mass_scale(&floats(scale, "mass scale")?).map_err(to_py)
+    }
+
+    fn set_triangle_stiffness(&mut self, stretch: &Bound<'_, PyAny>, shear: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.inner.set_triangle_stiffness(&floats(stretch, "stretch")?, &floats(shear, "shear")?).map_err(to_py)
+    }
+
+    /// Bending rest shape from a pose (n, 3), keeping its creases; None = flat.
+    #[pyo3(signature = (pose=None))]
+    fn set_bending_rest_pose(&mut self, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let p = pose.map(|p| points3(p, "pose")).transpose()?;
+        self.inner.set_bending_rest_pose(p.as_deref()).map_err(to_py)
+    }
+
+    /// Sews vertex path `a` to vertex path `b` one-to-one (equal counts). Returns the number
+    /// of hinges created across the sewn edges.
+    #[pyo3(signature = (a, b, stiffness=1000.0, bend_stiffness=1e-5, name="seam"))]
+    fn add_seam(&mut self, a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>, stiffness: f32, bend_stiffness: f32, name: &str) -> PyResult<usize> {
+        let n = self.inner.num_particles();
+        let (a, b) = (indices(a, "seam side A", n)?, indices(b, "seam side B", n)?);
+        let seam = Seam::one_to_one(name, &a, &b, stiffness, bend_stiffness).map_err(to_py)?;
+        self.inner.add_seam(seam).map_err(to_py)
+    }
+
+    /// Sews weighted points: each side is (k, 2) vertex indices and (k, 2) weights summing to
+    /// one per row (an edge point; a single vertex has weights (1, 0)). Seams of unequal
+    /// vertex counts use this.
+    #[pyo3(signature = (a_vertices, a_weights, b_vertices, b_weights, stiffness=1000.0, bend_stiffness=1e-5, name="seam"))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_weighted_seam(
+        &mut self,
+        a_vertices: &Bound<'_, PyAny>,
+        a_weights: &Bound<'_, PyAny>,
+        b_vertices: &Bound<'_, PyAny>,
+        b_weights: &Bound<'_, PyAny>,
+        stiffness: f32,
+        bend_stiffness: f32,
+        name: &str,
+    ) -> PyResult<usize> {
+        let n = self.inner.num_particles();
+        let side = |v: &Bound<'_, PyAny>, w: &Bound<'_, PyAny>, label: &str| -> PyResult<Vec<SeamPoint>> {
+            let verts = indices(&v.call_method1("reshape", (-1,))?, label, n)?;
+            let weights = floats(&w.call_method1("reshape", (-1,))?, label)?;
+            if verts.len() != weights.len() || verts.len() % 2 != 0 {
+                return Err(to_py(tailor_core::TailorError::shape(label, "vertices and weights must both have shape (k, 2)")));
+            }
+            Ok(verts
+                .chunks_exact(2)
+                .zip(weights.chunks_exact(2))
+                .map(|(v, w)| SeamPoint { verts: [v[0], v[1]], weights: [w[0], w[1]] })
+                .collect())
+        };
+        let (a, b) = (side(a_vertices, a_weights, "seam side A")?, side(b_vertices, b_weights, "seam side B")?);
+        if a.len() != b.len() {
+            return Err(to_py(tailor_core::TailorError::InvalidSeam {
+                seam: name.into(),
+                reason: format!("{} points on side A and {} on side B: weighted seams pair row by row", a.len(), b.len()),
+            }));
+        }
+        let seam = Seam { name: name.into(), pairs: a.into_iter().zip(b).collect(), stiffness, bend_stiffness };
+        self.inner.add_seam(seam).map_err(to_py)
+    }
+
+    /// Pins particles hard, at `targets` (k, 3) or where they are.
+    #[pyo3(signature = (particles, targets=None))]
+    fn pin(&mut self, particles: &Bound<'_, PyAny>, targets: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let p = indices(particles, "pin", self.inner.num_particles())?;
+        let t = targets.map(|t| points3(t, "pin targets")).transpose()?;
+        self.inner.pin(&p, t.as_deref()).map_err(to_py)
+    }
+
+    fn unpin(&mut self, particles: &Bound<'_, PyAny>) -> PyResult<()> {
+        let p = indices(particles, "unpin", self.inner.num_particles())?;
+        self.inner.unpin(&p).map_err(to_py)
+    }
+
+    /// Soft attachments of particles to targets (k, 3) with a weight (N/m).
+    fn add_attachments(&mut self, particles: &Bound<'_, PyAny>, targets: &Bound<'_, PyAny>, weight: f32) -> PyResult<()> {
+        let p = indices(particles, "attachments", self.inner.num_particles())?;
+        let t = points3(targets, "attachment targets")?;
+        if t.len() != p.len() {
+            return Err(to_py(tailor_core::TailorError::shape("attachments", format!("{} targets for {} particles", t.len(), p.len()))));
+        }
+        for (&particle, &target) in p.iter().zip(&t) {
+            self.inner.add_attachment(Attachment { particle, target, weight }).map_err(to_py)?;
+        }
+        Ok(())
+    }
+
+    fn set_attachment_targets(&mut self, targets: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.inner.set_attachment_targets(&points3(targets, "attachment targets")?).map_err(to_py)
+    }
+
+    #[pyo3(signature = (center, radius, static_friction=0.5, kinetic_friction=0.3))]
+    fn add_sphere_collider(&mut self, center: [f32; 3], radius: f32, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+        self.add_collider(Shape::Sphere { center, radius }, static_friction, kinetic_friction)
+    }
+
+    #[pyo3(signature = (point, normal, static_friction=0.5, kinetic_friction=0.3))]
+    fn add_plane_collider(&mut self, point: [f32; 3], normal: [f32; 3], static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+        self.add_collider(Shape::Plane { point, normal }, static_friction, kinetic_friction)
+    }
+
+    #[pyo3(signature = (a, b, radius, static_friction=0.5, kinetic_friction=0.3))]
+    fn add_capsule_collider(&mut self, a: [f32; 3], b: [f32; 3], radius: f32, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+        self.add_collider(Shape::Capsule { a, b, radius }, static_friction, kinetic_friction)
+    }
+
+    /// Advances `frames` frames of `dt` seconds each (the GIL is released while solving).
+    /// Returns the statistics of the last frame.
+    #[pyo3(signature = (dt, frames=1))]
+    fn step<'py>(&mut self, py: Python<'py>, dt: f32, frames: u32) -> PyResult<Bound<'py, PyDict>> {
+        let inner = &mut self.inner;
+        let stats = py.detach(|| {
+            let mut last = StepStats::default();
+            for _ in 0..frames.max(1) {
+                last = inner.step(dt)?;
+            }
+            Ok::<_, tailor_core::TailorError>(last)
+        });
+        stats_dict(py, &stats.map_err(to_py)?)
+    }
+
+    /// (largest sewn-pair gap in metres, fraction of pairs under the ramp threshold).
+    fn seam_gaps(&self) -> (f32, f32) {
+        self.inner.seam_gaps()
+    }
+
+    fn colour_count(&mut self) -> usize {
+        self.inner.colour_count()
+    }
+
+    fn state_hash(&self) -> u64 {
+        self.inner.state_hash()
+    }
+
+    /// Measures `iterations` iterations of `method` on the next substep against the reference
+    /// solution; the simulation is unchanged. Returns per-iteration arrays.
+    #[pyo3(signature = (dt, method="chebyshev", iterations=100, reference_iterations=5000, reference_tolerance=1e-7))]
+    fn measure_step<'py>(
+        &mut self,
+        py: Python<'py>,
+        dt: f32,
+        method: &str,
+        iterations: u32,
+        reference_iterations: u32,
+        reference_tolerance: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let method = parse_method(method)?;
+        let opts = ReferenceOptions { max_iterations: reference_iterations, tolerance_m: reference_tolerance };
+        let inner = &mut self.inner;
+        let m = py.detach(|| inner.measure_step(dt, method, iterations, opts)).map_err(to_py)?;
+        let d = PyDict::new(py);
+        let r = PyDict::new(py);
+        r.set_item("iterations", m.reference.iterations)?;
+        r.set_item("last_change", m.reference.last_change)?;
+        r.set_item("gradient_rel", m.reference.gradient_rel)?;
+        r.set_item("seconds", m.reference.seconds)?;
+        d.set_item("reference", r)?;
+        let col = |f: &dyn Fn(&core::IterationRecord) -> f64| m.records.iter().map(f).collect::<Vec<f64>>();
+        d.set_item("iteration", PyArray1::from_vec(py, m.records.iter().map(|r| r.iteration).collect::<Vec<u32>>()))?;
+        d.set_item("seconds", vec64_to_numpy(py, col(&|r| r.seconds)))?;
+        d.set_item("objective_rel", vec64_to_numpy(py, col(&|r| r.measures.objective_rel)))?;
+        d.set_item("residual_rel", vec64_to_numpy(py, col(&|r| r.measures.residual_rel)))?;
+        d.set_item("distance_rel", vec64_to_numpy(py, col(&|r| r.measures.distance_rel)))?;
+        d.set_item("distance_max", vec64_to_numpy(py, col(&|r| r.measures.distance_max)))?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Simulation({} particles, {} triangles)", self.inner.num_particles(), self.inner.model().mesh.num_triangles())
+    }
+}
+
+impl Simulation {
+    fn add_collider(&mut self, shape: Shape, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+        self.inner.add_collider(ImplicitCollider { shape, static_friction, kinetic_friction }).map_err(to_py)
+    }
+}

@@ -31,6 +31,8 @@ struct Ctx<'a> {
     relative: bool,
     /// Flattening tolerance in file units.
     tol: f64,
+    /// Points still allowed (see [`outline::MAX_POINTS`]).
+    budget: std::cell::Cell<usize>,
 }
 
 fn f(v: &Value) -> Option<f64> {
@@ -70,7 +72,7 @@ pub fn read(file: &str, bytes: &[u8], opts: &ReadOptions) -> Result<Pattern> {
         None => 1.0 / units_in_meter,
     };
     let relative = props.and_then(|p| p.get("curvature_coords")).and_then(Value::as_str) != Some("absolute");
-    let ctx = Ctx { file, relative, tol: opts.tolerance_m / scale };
+    let ctx = Ctx { file, relative, tol: opts.tolerance_m / scale, budget: outline::MAX_POINTS.into() };
 
     let mut order: Vec<String> = match pattern.get("panel_order").and_then(Value::as_array) {
         Some(list) => {
@@ -149,6 +151,13 @@ fn panel(ctx: &Ctx, name: &str, p: &Value, scale: f64) -> Result<Piece> {
         pts.push(verts[a]);
         edge_points(ctx, &ename, verts[a], verts[b], e.get("curvature"), &mut pts)?;
         pts.pop(); // the end is the next edge's start
+        if pts.len() > ctx.budget.get() {
+            return Err(TailorError::Unsupported {
+                file: ctx.file.into(),
+                entity: ename,
+                reason: "too many points in the file".into(),
+            });
+        }
     }
     let first = edges[0].get("endpoints").and_then(|a| a.get(0)).and_then(Value::as_u64);
     if prev_end.map(|x| x as u64) != first {
@@ -158,6 +167,7 @@ fn panel(ctx: &Ctx, name: &str, p: &Value, scale: f64) -> Result<Piece> {
         ));
     }
     let n = pts.len();
+    ctx.budget.set(ctx.budget.get() - n);
     if n < 3 || !outline::all_finite(&pts) {
         return Err(err(&who, "outline has fewer than 3 points or non-finite coordinates".into()));
     }

@@ -2,6 +2,12 @@
 //! loops, nesting (which loop is a hole of which), and finding corner vertices.
 
 use super::Point2;
+use std::collections::HashMap;
+
+/// Most flattened points one file may produce; real patterns have tens of thousands.
+pub const MAX_POINTS: usize = 20_000_000;
+/// Most closed outlines one file (or one AAMA block) may hold; nesting them is quadratic.
+pub const MAX_LOOPS: usize = 20_000;
 
 /// The signed area (positive = counter-clockwise) of a closed polygon.
 pub fn signed_area(poly: &[Point2]) -> f64 {
@@ -38,6 +44,13 @@ pub fn all_finite(poly: &[Point2]) -> bool {
     poly.iter().all(|p| p[0].is_finite() && p[1].is_finite())
 }
 
+/// Bounding box `[min x, min y, max x, max y]`.
+pub fn bbox(poly: &[Point2]) -> [f64; 4] {
+    poly.iter().fold([f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY], |b, p| {
+        [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])]
+    })
+}
+
 /// Even-odd point-in-polygon test.
 pub fn contains(poly: &[Point2], p: Point2) -> bool {
     let n = poly.len();
@@ -54,36 +67,69 @@ pub fn contains(poly: &[Point2], p: Point2) -> bool {
 }
 
 /// Joins open polylines that share endpoints (within `eps`, either direction) into chains.
-/// Returns each chain with a flag telling whether it closed on itself. Quadratic in the number
-/// of pieces, which is small (a pattern piece has tens of boundary lines).
+/// Returns each chain with a flag telling whether it closed on itself. Endpoints are looked up
+/// in a grid hash, so thousands of loose LINEs chain in linear time.
 pub fn chain(mut parts: Vec<Vec<Point2>>, eps: f64) -> Vec<(Vec<Point2>, bool)> {
-    parts.retain(|p| !p.is_empty());
-    let mut out = Vec::new();
-    while let Some(mut cur) = parts.pop() {
-        loop {
-            let (first, last) = (cur[0], cur[cur.len() - 1]);
-            if cur.len() > 2 && dist(first, last) <= eps {
-                break;
+    parts.retain(|p| !p.is_empty() && all_finite(p));
+    let cell = eps.max(1e-12);
+    let key = |p: Point2| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (i, p) in parts.iter().enumerate() {
+        grid.entry(key(p[0])).or_default().push(i);
+        let k = key(p[p.len() - 1]);
+        if k != key(p[0]) {
+            grid.entry(k).or_default().push(i);
+        }
+    }
+    let mut used = vec![false; parts.len()];
+    // Finds an unused part with an end within eps of `q`.
+    let find = |q: Point2, used: &[bool], parts: &[Vec<Point2>]| -> Option<usize> {
+        let (kx, ky) = key(q);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(list) = grid.get(&(kx + dx, ky + dy)) {
+                    for &i in list {
+                        let p = &parts[i];
+                        if !used[i] && (dist(q, p[0]) <= eps || dist(q, p[p.len() - 1]) <= eps) {
+                            return Some(i);
+                        }
+                    }
+                }
             }
-            let found = parts.iter().position(|p| {
-                let (a, b) = (p[0], p[p.len() - 1]);
-                dist(last, a) <= eps || dist(last, b) <= eps || dist(first, a) <= eps || dist(first, b) <= eps
-            });
-            let Some(i) = found else { break };
-            let mut p = parts.swap_remove(i);
-            let (a, b) = (p[0], p[p.len() - 1]);
-            if dist(last, a) <= eps {
-                cur.extend_from_slice(&p[1..]);
-            } else if dist(last, b) <= eps {
-                p.reverse();
-                cur.extend_from_slice(&p[1..]);
-            } else if dist(first, b) <= eps {
-                p.extend_from_slice(&cur[1..]);
-                cur = p;
-            } else {
-                p.reverse();
-                p.extend_from_slice(&cur[1..]);
-                cur = p;
+        }
+        None
+    };
+    let mut out = Vec::new();
+    for start in 0..parts.len() {
+        if used[start] {
+            continue;
+        }
+        used[start] = true;
+        let mut cur = parts[start].clone();
+        // Grow at the end, then at the front; each part is used once, so this terminates.
+        for front in [false, true] {
+            loop {
+                let (first, last) = (cur[0], cur[cur.len() - 1]);
+                if cur.len() > 2 && dist(first, last) <= eps {
+                    break;
+                }
+                let tip = if front { first } else { last };
+                let Some(i) = find(tip, &used, &parts) else { break };
+                used[i] = true;
+                let mut p = parts[i].clone();
+                if front {
+                    if dist(tip, p[0]) <= eps {
+                        p.reverse();
+                    }
+                    p.pop();
+                    p.extend_from_slice(&cur);
+                    cur = p;
+                } else {
+                    if dist(tip, p[0]) > eps {
+                        p.reverse();
+                    }
+                    cur.extend_from_slice(&p[1..]);
+                }
             }
         }
         let closed = cur.len() > 2 && dist(cur[0], cur[cur.len() - 1]) <= eps;
@@ -168,11 +214,16 @@ pub fn nest(loops: Vec<Vec<Point2>>) -> Vec<(Vec<Point2>, Vec<Vec<Point2>>)> {
 pub fn nest_indices(loops: &[Vec<Point2>]) -> Vec<(usize, Vec<usize>)> {
     let n = loops.len();
     let areas: Vec<f64> = loops.iter().map(|l| signed_area(l).abs()).collect();
+    let boxes: Vec<[f64; 4]> = loops.iter().map(|l| bbox(l)).collect();
+    let inside_box = |b: &[f64; 4], p: Point2| p[0] >= b[0] && p[0] <= b[2] && p[1] >= b[1] && p[1] <= b[3];
     // parent = smallest larger loop that contains this loop's first vertex.
     let parent: Vec<Option<usize>> = (0..n)
         .map(|i| {
             (0..n)
-                .filter(|&j| j != i && !loops[i].is_empty() && areas[j] > areas[i] && contains(&loops[j], loops[i][0]))
+                .filter(|&j| {
+                    j != i && !loops[i].is_empty() && areas[j] > areas[i] && inside_box(&boxes[j], loops[i][0])
+                })
+                .filter(|&j| contains(&loops[j], loops[i][0]))
                 .min_by(|&a, &b| areas[a].total_cmp(&areas[b]))
         })
         .collect();

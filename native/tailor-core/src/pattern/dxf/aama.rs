@@ -92,12 +92,13 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
         Some(sample.unwrap_or_else(|| sizes[(sizes.len() - 1) / 2].clone()))
     };
     let mut pieces = Vec::new();
+    let mut budget = outline::MAX_POINTS;
     for b in doc.blocks.iter().filter(|b| is_piece(b)) {
         let bs = block_size(b);
         if bs.is_some() && bs != size {
             continue;
         }
-        pieces.push(piece(file, b, units.metres(), opts.tolerance_m)?);
+        pieces.push(piece(file, b, units.metres(), opts.tolerance_m, &mut budget)?);
     }
     if pieces.is_empty() {
         return Err(TailorError::parse(file, "BLOCKS", "no block has a boundary on layer 1"));
@@ -109,7 +110,7 @@ fn scaled(p: Point2, s: f64) -> Point2 {
     [p[0] * s, p[1] * s]
 }
 
-fn piece(file: &str, b: &Block, scale: f64, tol_m: f64) -> Result<Piece> {
+fn piece(file: &str, b: &Block, scale: f64, tol_m: f64, budget: &mut usize) -> Result<Piece> {
     let ctx = format!("BLOCK {:?}", b.name);
     let tol = tol_m / scale;
     let mut loops = Vec::new();
@@ -133,6 +134,11 @@ fn piece(file: &str, b: &Block, scale: f64, tol_m: f64) -> Result<Piece> {
             continue;
         }
         let Some(path) = geometry::path(file, &ctx, e, tol)? else { continue };
+        *budget = budget.checked_sub(path.points.len()).ok_or_else(|| TailorError::Unsupported {
+            file: file.into(),
+            entity: describe(&ctx, e),
+            reason: "too many points in the file".into(),
+        })?;
         let pts: Vec<Point2> = path.points.iter().map(|p| scaled(*p, scale)).collect();
         match layer {
             "1" if path.closed => loops.push(pts),
@@ -175,6 +181,13 @@ fn piece(file: &str, b: &Block, scale: f64, tol_m: f64) -> Result<Piece> {
     loops.retain(|l| l.len() >= 3 && outline::signed_area(l).abs() > 0.0);
     if loops.is_empty() {
         return Err(TailorError::parse(file, format!("{ctx} layer 1"), "boundary has no area"));
+    }
+    if loops.len() > outline::MAX_LOOPS {
+        return Err(TailorError::Unsupported {
+            file: file.into(),
+            entity: format!("{ctx} layer 1"),
+            reason: "too many closed outlines".into(),
+        });
     }
     let mut nested = outline::nest(loops);
     nested.sort_by(|a, b| outline::signed_area(&b.0).total_cmp(&outline::signed_area(&a.0)));

@@ -55,7 +55,11 @@ fn collect(
     for e in ents {
         // Expanding many nested INSERTs could multiply geometry without bound.
         if out.budget == 0 {
-            return Err(TailorError::parse(file, describe(ctx, e), "too many entities after expanding INSERTs"));
+            return Err(TailorError::parse(
+                file,
+                describe(ctx, e),
+                "too many entities or points after expanding INSERTs",
+            ));
         }
         out.budget -= 1;
         if e.kind == "INSERT" {
@@ -81,6 +85,11 @@ fn collect(
             continue;
         }
         if let Some(p) = geometry::path(file, ctx, e, tol)? {
+            out.budget = out.budget.checked_sub(p.points.len()).ok_or_else(|| TailorError::Unsupported {
+                file: file.into(),
+                entity: describe(ctx, e),
+                reason: "too many points in the file".into(),
+            })?;
             out.paths.push((p.points.iter().map(|q| m.apply(*q)).collect(), p.closed, e.layer().to_string()));
         }
     }
@@ -93,7 +102,7 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
         .or_else(|| doc.header_num("$INSUNITS").and_then(|c| Units::from_insunits(c as i64)))
         .unwrap_or(Units::Millimetres);
     let scale = units.metres();
-    let mut c = Collected { paths: Vec::new(), texts: Vec::new(), budget: 1_000_000 };
+    let mut c = Collected { paths: Vec::new(), texts: Vec::new(), budget: outline::MAX_POINTS };
     collect(file, doc, &doc.entities, "ENTITIES", Affine::IDENTITY, opts.tolerance_m / scale, 0, &mut c)?;
     let sc = |p: &Point2| [p[0] * scale, p[1] * scale];
     let eps = 1e-5_f64.max(opts.tolerance_m * 0.1);
@@ -127,6 +136,13 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
             "ENTITIES",
             "no closed outline (closed polyline, circle, spline or chain of lines)",
         ));
+    }
+    if loops.len() > outline::MAX_LOOPS {
+        return Err(TailorError::Unsupported {
+            file: file.into(),
+            entity: "ENTITIES".into(),
+            reason: "too many closed outlines".into(),
+        });
     }
     let layers: Vec<(Vec<Point2>, String)> = loops.clone();
     let nested = outline::nest(loops.into_iter().map(|l| l.0).collect());

@@ -43,6 +43,8 @@ struct Ctx<'f> {
     tol_m: f64,
     items: Vec<Item>,
     groups: Vec<String>,
+    /// Points still allowed (see [`outline::MAX_POINTS`]).
+    budget: usize,
 }
 
 fn length_m(l: Length) -> Option<f64> {
@@ -141,12 +143,14 @@ fn walk(ctx: &mut Ctx, n: Node, parent: &Transform, group: Option<usize>, depth:
         None => Transform::default(),
     };
     let m = mul(parent, &local);
-    // Flatten in user space with the tolerance the transform will scale to `tol_m`.
-    let det = (m.a * m.d - m.b * m.c).abs().sqrt() * ctx.scale;
-    if !(det.is_finite() && det > 0.0) {
+    // Flatten in user space with a tolerance that the transform's largest stretch (its
+    // largest singular value) scales to at most `tol_m`.
+    let (sq, det) = (m.a * m.a + m.b * m.b + m.c * m.c + m.d * m.d, m.a * m.d - m.b * m.c);
+    let stretch = ((sq + (sq * sq - 4.0 * det * det).max(0.0).sqrt()) / 2.0).sqrt() * ctx.scale;
+    if !(stretch.is_finite() && stretch > 0.0 && det != 0.0) {
         return Ok(());
     }
-    let tol = ctx.tol_m / det;
+    let tol = ctx.tol_m / stretch;
     let subs: Vec<SubPath> = match tag {
         "g" | "svg" | "a" | "switch" => {
             let is_layer = n.attribute((INKSCAPE_NS, "groupmode")) == Some("layer");
@@ -213,6 +217,11 @@ fn walk(ctx: &mut Ctx, n: Node, parent: &Transform, group: Option<usize>, depth:
                 [x * ctx.scale, -y * ctx.scale]
             })
             .collect();
+        ctx.budget = ctx.budget.checked_sub(pts.len()).ok_or_else(|| TailorError::Unsupported {
+            file: ctx.file.into(),
+            entity: describe(n),
+            reason: "too many points in the file".into(),
+        })?;
         if !outline::all_finite(&pts) {
             return Err(TailorError::parse(ctx.file, describe(n), "non-finite coordinates"));
         }
@@ -230,9 +239,22 @@ pub fn read(file: &str, bytes: &[u8], opts: &ReadOptions) -> Result<Pattern> {
     if root.tag_name().name() != "svg" {
         return Err(TailorError::parse(file, format!("<{}>", root.tag_name().name()), "the root element is not <svg>"));
     }
-    let mut ctx =
-        Ctx { file, scale: user_unit_m(root, opts), tol_m: opts.tolerance_m, items: Vec::new(), groups: Vec::new() };
+    let mut ctx = Ctx {
+        file,
+        scale: user_unit_m(root, opts),
+        tol_m: opts.tolerance_m,
+        items: Vec::new(),
+        groups: Vec::new(),
+        budget: outline::MAX_POINTS,
+    };
     walk(&mut ctx, root, &Transform::default(), None, 0)?;
+    if ctx.items.iter().filter(|i| i.closed).count() > outline::MAX_LOOPS {
+        return Err(TailorError::Unsupported {
+            file: file.into(),
+            entity: "<svg>".into(),
+            reason: "too many closed outlines".into(),
+        });
+    }
     let pieces = build_pieces(&mut ctx);
     if pieces.is_empty() {
         return Err(TailorError::parse(

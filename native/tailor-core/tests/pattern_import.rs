@@ -445,9 +445,7 @@ fn check_garmentcode(file: &str, panels: usize, stitches: usize) {
         total.0 += outline::perimeter(&pc.outline);
         total.1 += want;
         let pl = pc.placement.as_ref().unwrap();
-        for k in 0..3 {
-            assert!((pl.translation[k] - tr[k]).abs() < 1e-12);
-        }
+        assert!(pl.translation.iter().zip(tr).all(|(a, b)| (a - b).abs() < 1e-12));
     }
     println!(
         "{file}: {panels} panels, {stitches} stitches, outline total {:.5} m, sampled {:.5} m ({took:?})",

@@ -55,7 +55,7 @@ pub fn cubic(p0: Point2, p1: Point2, p2: Point2, p3: Point2, tol: f64, out: &mut
 /// Segments needed for an arc of radius `r` sweeping `sweep` radians: each chord's sagitta
 /// r·(1 − cos(θ/2)) must stay below `tol`.
 fn arc_segments(r: f64, sweep: f64, tol: f64) -> usize {
-    if !(r > tol) {
+    if r.is_nan() || r <= tol {
         return count(sweep.abs() / (PI / 2.0));
     }
     let step = 2.0 * (1.0 - tol / r).clamp(-1.0, 1.0).acos();
@@ -169,8 +169,9 @@ fn de_boor(degree: usize, knots: &[f64], ctrl: &[[f64; 3]], u: f64) -> Point2 {
             let i = j + span - degree;
             let den = knots[i + degree + 1 - r] - knots[i];
             let a = if den.abs() > 0.0 { (u - knots[i]) / den } else { 0.0 };
-            for k in 0..3 {
-                d[j][k] = (1.0 - a) * d[j - 1][k] + a * d[j][k];
+            let prev = d[j - 1];
+            for (v, p) in d[j].iter_mut().zip(prev) {
+                *v = (1.0 - a) * p + a * *v;
             }
         }
     }
@@ -190,7 +191,7 @@ pub fn bspline(degree: usize, knots: &[f64], ctrl: &[Point2], weights: &[f64], t
     if degree == 0 || ctrl.len() <= degree || knots.len() != ctrl.len() + degree + 1 || ctrl.len() > 100_000 {
         return None;
     }
-    if knots.windows(2).any(|w| !(w[1] >= w[0])) {
+    if knots.iter().any(|k| !k.is_finite()) || knots.windows(2).any(|w| w[1] < w[0]) {
         return None;
     }
     let hom: Vec<[f64; 3]> = ctrl
@@ -202,7 +203,7 @@ pub fn bspline(degree: usize, knots: &[f64], ctrl: &[Point2], weights: &[f64], t
         })
         .collect();
     let (u0, u1) = (knots[degree], knots[ctrl.len()]);
-    if !(u1 > u0) {
+    if u1 <= u0 {
         return None;
     }
     let eval = |u: f64| de_boor(degree, knots, &hom, u.clamp(u0, u1));
@@ -210,28 +211,28 @@ pub fn bspline(degree: usize, knots: &[f64], ctrl: &[Point2], weights: &[f64], t
     let mut out = vec![eval(u0)];
     for i in 0..n0 {
         let (a, b) = (u0 + (u1 - u0) * i as f64 / n0 as f64, u0 + (u1 - u0) * (i + 1) as f64 / n0 as f64);
-        refine(&eval, a, b, eval(a), eval(b), tol, 8, &mut out);
+        refine(&eval, (a, eval(a)), (b, eval(b)), tol, 8, &mut out);
     }
     Some(out)
 }
 
+/// Bisects the parameter interval between the samples `a` and `b` until its midpoint is
+/// within `tol` of the chord, at most `depth` times.
 fn refine(
     eval: &dyn Fn(f64) -> Point2,
-    a: f64,
-    b: f64,
-    pa: Point2,
-    pb: Point2,
+    a: (f64, Point2),
+    b: (f64, Point2),
     tol: f64,
     depth: u32,
     out: &mut Vec<Point2>,
 ) {
-    let m = 0.5 * (a + b);
+    let m = 0.5 * (a.0 + b.0);
     let pm = eval(m);
-    if depth > 0 && distance_to_segment(pm, pa, pb) > tol {
-        refine(eval, a, m, pa, pm, tol, depth - 1, out);
-        refine(eval, m, b, pm, pb, tol, depth - 1, out);
+    if depth > 0 && distance_to_segment(pm, a.1, b.1) > tol {
+        refine(eval, a, (m, pm), tol, depth - 1, out);
+        refine(eval, (m, pm), b, tol, depth - 1, out);
     } else {
-        out.push(pb);
+        out.push(b.1);
     }
 }
 

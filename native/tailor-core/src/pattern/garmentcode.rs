@@ -64,7 +64,7 @@ pub fn read(file: &str, bytes: &[u8], opts: &ReadOptions) -> Result<Pattern> {
         .ok_or_else(|| TailorError::parse(file, "pattern", "no \"panels\" object"))?;
     let props = root.get("properties");
     let units_in_meter = props.and_then(|p| p.get("units_in_meter")).and_then(f).unwrap_or(100.0);
-    if !(units_in_meter > 0.0) {
+    if units_in_meter.is_nan() || units_in_meter <= 0.0 {
         return Err(TailorError::parse(file, "properties.units_in_meter", "must be positive"));
     }
     let scale = match opts.units_override {
@@ -176,7 +176,7 @@ fn panel(ctx: &Ctx, name: &str, p: &Value, scale: f64) -> Result<Piece> {
         .map(|i| OutlineSpan { start: starts[i], end: starts.get(i + 1).copied().unwrap_or(0) })
         .collect();
     let area = outline::signed_area(&pts);
-    if !(area.abs() > 0.0) {
+    if area.is_nan() || area == 0.0 {
         return Err(err(&who, "outline has no area".into()));
     }
     let flipped = area < 0.0;
@@ -276,7 +276,7 @@ fn circle(
     out: &mut Vec<Point2>,
 ) -> Result<(), String> {
     let chord = outline::dist(s, e);
-    if !(r > 0.0) || chord == 0.0 {
+    if r.is_nan() || r <= 0.0 || chord == 0.0 {
         return Err(format!("circle arc radius {r} with chord {chord} is degenerate"));
     }
     // pygarment treats a radius within rounding of half the chord as a half circle.

@@ -87,7 +87,7 @@ pub fn chain(mut parts: Vec<Vec<Point2>>, eps: f64) -> Vec<(Vec<Point2>, bool)> 
         let (kx, ky) = key(q);
         for dx in -1..=1 {
             for dy in -1..=1 {
-                if let Some(list) = grid.get(&(kx + dx, ky + dy)) {
+                if let Some(list) = grid.get(&(kx.saturating_add(dx), ky.saturating_add(dy))) {
                     for &i in list {
                         let p = &parts[i];
                         if !used[i] && (dist(q, p[0]) <= eps || dist(q, p[p.len() - 1]) <= eps) {

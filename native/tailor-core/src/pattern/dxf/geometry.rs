@@ -83,18 +83,15 @@ pub fn path(file: &str, ctx: &str, e: &Entity, tol: f64) -> Result<Option<Path>>
         "ARC" | "CIRCLE" => {
             let c = point(file, ctx, e, 10)?;
             let r = coord(file, ctx, e, 40)?;
-            if !(r > 0.0) {
+            if r.is_nan() || r <= 0.0 {
                 return Err(bad("radius (group 40) must be positive"));
             }
             let (a0, sweep, closed) = if e.kind == "CIRCLE" {
                 (0.0, 2.0 * PI, true)
             } else {
                 let a0 = coord(file, ctx, e, 50)?.to_radians();
-                let mut sweep = coord(file, ctx, e, 51)?.to_radians() - a0;
-                while sweep <= 0.0 {
-                    sweep += 2.0 * PI;
-                }
-                (a0, sweep.min(2.0 * PI), false)
+                let sweep = ccw_sweep(coord(file, ctx, e, 51)?.to_radians() - a0);
+                (a0, sweep, false)
             };
             let mut points = vec![[c[0] + r * a0.cos(), c[1] + r * a0.sin()]];
             flatten::arc(c, r, a0, sweep, tol, &mut points);
@@ -108,11 +105,7 @@ pub fn path(file: &str, ctx: &str, e: &Entity, tol: f64) -> Result<Option<Path>>
             let major = point(file, ctx, e, 11)?;
             let ratio = coord(file, ctx, e, 40)?;
             let (t0, t1) = (e.num(41).unwrap_or(0.0), e.num(42).unwrap_or(2.0 * PI));
-            let mut sweep = t1 - t0;
-            while sweep <= 0.0 {
-                sweep += 2.0 * PI;
-            }
-            let sweep = sweep.min(2.0 * PI);
+            let sweep = ccw_sweep(t1 - t0);
             let rx = major[0].hypot(major[1]);
             let phi = major[1].atan2(major[0]);
             let mut points = Vec::new();
@@ -159,6 +152,17 @@ pub fn path(file: &str, ctx: &str, e: &Entity, tol: f64) -> Result<Option<Path>>
         return Err(bad("no usable vertices"));
     }
     Ok(Some(path))
+}
+
+/// A counter-clockwise sweep in (0, 2π] from an end-minus-start angle difference; equal angles
+/// mean a full turn. (A `while sweep <= 0 { sweep += 2π }` never ends on an angle of −1e308.)
+fn ccw_sweep(d: f64) -> f64 {
+    let s = d.rem_euclid(2.0 * PI);
+    if s > 0.0 && s.is_finite() {
+        s
+    } else {
+        2.0 * PI
+    }
 }
 
 /// Expands polyline vertices with bulges into points.

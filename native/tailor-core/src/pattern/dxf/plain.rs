@@ -36,22 +36,19 @@ impl Affine {
     }
 }
 
-struct Collected {
+/// What [`collect`] gathers, and the fixed inputs it needs on the way down INSERTs.
+struct Collected<'a> {
+    file: &'a str,
+    doc: &'a Document,
+    /// Flattening tolerance in file units.
+    tol: f64,
     paths: Vec<(Vec<Point2>, bool, String)>,
     texts: Vec<(Point2, String)>,
     budget: usize,
 }
 
-fn collect(
-    file: &str,
-    doc: &Document,
-    ents: &[Entity],
-    ctx: &str,
-    m: Affine,
-    tol: f64,
-    depth: usize,
-    out: &mut Collected,
-) -> Result<()> {
+fn collect(ents: &[Entity], ctx: &str, m: Affine, depth: usize, out: &mut Collected) -> Result<()> {
+    let (file, doc, tol) = (out.file, out.doc, out.tol);
     for e in ents {
         // Expanding many nested INSERTs could multiply geometry without bound.
         if out.budget == 0 {
@@ -75,7 +72,7 @@ fn collect(
             let (s, c) = rot.sin_cos();
             let local = Affine([c * sx, s * sx, -s * sy, c * sy, e.num(10).unwrap_or(0.0), e.num(20).unwrap_or(0.0)]);
             let bctx = format!("BLOCK {name:?}");
-            collect(file, doc, &block.entities, &bctx, local.then(&m), tol, depth + 1, out)?;
+            collect(&block.entities, &bctx, local.then(&m), depth + 1, out)?;
             continue;
         }
         if let Some(t) = e.text() {
@@ -102,8 +99,15 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
         .or_else(|| doc.header_num("$INSUNITS").and_then(|c| Units::from_insunits(c as i64)))
         .unwrap_or(Units::Millimetres);
     let scale = units.metres();
-    let mut c = Collected { paths: Vec::new(), texts: Vec::new(), budget: outline::MAX_POINTS };
-    collect(file, doc, &doc.entities, "ENTITIES", Affine::IDENTITY, opts.tolerance_m / scale, 0, &mut c)?;
+    let mut c = Collected {
+        file,
+        doc,
+        tol: opts.tolerance_m / scale,
+        paths: Vec::new(),
+        texts: Vec::new(),
+        budget: outline::MAX_POINTS,
+    };
+    collect(&doc.entities, "ENTITIES", Affine::IDENTITY, 0, &mut c)?;
     let sc = |p: &Point2| [p[0] * scale, p[1] * scale];
     let eps = 1e-5_f64.max(opts.tolerance_m * 0.1);
     let mut loops: Vec<(Vec<Point2>, String)> = Vec::new();

@@ -242,12 +242,23 @@ fn synthetic_aama_nest() {
     }
     let back_len = (360.0 + 2.0 * 40f64.hypot(280.0)) * 1e-3;
     close(outline::perimeter(&p.pieces[1].outline), back_len, 1e-9, "BACK");
+    assert_eq!(p.pieces[1].holes.len(), 1, "layer 11 cutout");
+    close(outline::perimeter(&p.pieces[1].holes[0]), 0.08, 1e-9, "cutout");
     // Other sizes and a units override.
     let l = read_pattern(&path, &ReadOptions { size: Some("l".into()), ..Default::default() }).unwrap();
     close(outline::perimeter(&l.pieces[1].outline), 1.1 * back_len, 1e-9, "BACK L");
     let cm =
         read_pattern(&path, &ReadOptions { units_override: Some(Units::Centimetres), ..Default::default() }).unwrap();
     close(outline::perimeter(&cm.pieces[1].outline), 10.0 * back_len, 1e-9, "BACK in cm");
+}
+
+#[test]
+fn piece_name_and_size_from_insert_attribs() {
+    let p = read(&data("dxf/synthetic_attrib.dxf"));
+    assert_eq!(p.pieces.len(), 1);
+    assert_eq!(p.pieces[0].name, "CUFF");
+    assert_eq!(p.size.as_deref(), Some("10"));
+    close(outline::perimeter(&p.pieces[0].outline), 12.0 * 0.0254, 1e-9, "cuff");
 }
 
 #[test]

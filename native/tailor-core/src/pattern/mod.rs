@@ -26,7 +26,8 @@ const MAX_FILE_BYTES: u64 = 256 << 20;
 pub struct ReadOptions {
     /// Size to import from a graded file; `None` = the sample size (see [`dxf::aama`]).
     pub size: Option<String>,
-    /// Units to use instead of those the file declares (DXF and unitless SVG).
+    /// Units to use instead of those the file declares: DXF coordinates, the SVG user unit,
+    /// GarmentCode vertex coordinates.
     pub units_override: Option<Units>,
     /// Curve flattening chord tolerance in metres.
     pub tolerance_m: f64,

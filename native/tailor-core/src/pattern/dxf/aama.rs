@@ -1,10 +1,13 @@
 //! AAMA / ASTM D6673 pattern DXF (as written by Gerber AccuMark, Lectra, CLO ...).
 //!
 //! Each piece is one BLOCK (inserted once in ENTITIES). Inside a block the layer says what an
-//! entity is: 1 boundary, 2 turn points, 4 notches, 7 grain line, 8 internal lines (3 curve
-//! points, 5 grade reference, 6 mirror line, 13 drill holes are not used). Annotation is TEXT
-//! `Key: value`: `Piece Name:` and `Size:` in each block, `Units:` (ENGLISH = inches,
-//! METRIC = millimetres) and `Sample Size:` in ENTITIES.
+//! entity is: 1 boundary, 2 turn points, 4 notches (and 80–83, the T, castle, check and U
+//! notches, drawn as lines from the boundary), 7 grain line, 8 internal lines, 11 internal
+//! cutouts (holes). Not used: 3 curve points, 5 grade reference, 6 mirror line, 9/10 stripe and
+//! plaid references, 13 drill holes, 14 sew lines, 84 validation curves. Annotation is TEXT or
+//! ATTRIB `Key: value`: `Piece Name:` and `Size:` in each block (or in ATTRIBs of its INSERT),
+//! `Units:` (ENGLISH = inches, METRIC = millimetres) and `Sample Size:` in ENTITIES. Without
+//! `Units:` or `$INSUNITS` a file is read as inches, AAMA's default ENGLISH.
 //!
 //! A graded nest has one block per piece per size. The size imported by default is the one
 //! the file marks with `Sample Size:`; when nothing marks it, it is the middle size of the
@@ -32,9 +35,19 @@ fn annotations<'a>(entities: impl Iterator<Item = &'a Entity>, key: &str) -> Opt
     entities.filter_map(annotation).find(|(k, _)| k == key).map(|(_, v)| v)
 }
 
+/// The annotation entities of a block: its own and the ATTRIBs of INSERTs of it.
+fn block_notes<'a>(doc: &'a Document, b: &'a Block) -> impl Iterator<Item = &'a Entity> {
+    let attribs = doc
+        .entities
+        .iter()
+        .filter(move |e| e.kind == "INSERT" && e.get(2) == Some(b.name.as_str()))
+        .flat_map(|e| &e.vertices);
+    b.entities.iter().chain(attribs)
+}
+
 /// True when the document looks like an AAMA/ASTM pattern (a block names its piece).
 pub fn detect(doc: &Document) -> bool {
-    doc.blocks.iter().flat_map(|b| &b.entities).filter_map(annotation).any(|(k, _)| k == "piece name")
+    doc.blocks.iter().any(|b| block_notes(doc, b).filter_map(annotation).any(|(k, _)| k == "piece name"))
 }
 
 /// A block that holds a piece: it has boundary geometry on layer 1.
@@ -42,14 +55,14 @@ fn is_piece(b: &Block) -> bool {
     !b.name.starts_with('*') && b.entities.iter().any(|e| e.layer() == "1" && e.kind != "TEXT" && e.kind != "POINT")
 }
 
-fn block_size(b: &Block) -> Option<String> {
-    annotations(b.entities.iter(), "size")
+fn block_size(doc: &Document, b: &Block) -> Option<String> {
+    annotations(block_notes(doc, b), "size")
 }
 
 /// Sizes in file order, without repeats.
 pub fn sizes(doc: &Document) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
-    for s in doc.blocks.iter().filter(|b| is_piece(b)).filter_map(block_size) {
+    for s in doc.blocks.iter().filter(|b| is_piece(b)).filter_map(|b| block_size(doc, b)) {
         if !out.contains(&s) {
             out.push(s);
         }
@@ -94,11 +107,12 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
     let mut pieces = Vec::new();
     let mut budget = outline::MAX_POINTS;
     for b in doc.blocks.iter().filter(|b| is_piece(b)) {
-        let bs = block_size(b);
+        let bs = block_size(doc, b);
         if bs.is_some() && bs != size {
             continue;
         }
-        pieces.push(piece(file, b, units.metres(), opts.tolerance_m, &mut budget)?);
+        let name = annotations(block_notes(doc, b), "piece name").unwrap_or_else(|| b.name.clone());
+        pieces.push(piece(file, b, name, units.metres(), opts.tolerance_m, &mut budget)?);
     }
     if pieces.is_empty() {
         return Err(TailorError::parse(file, "BLOCKS", "no block has a boundary on layer 1"));
@@ -110,10 +124,11 @@ fn scaled(p: Point2, s: f64) -> Point2 {
     [p[0] * s, p[1] * s]
 }
 
-fn piece(file: &str, b: &Block, scale: f64, tol_m: f64, budget: &mut usize) -> Result<Piece> {
+fn piece(file: &str, b: &Block, name: String, scale: f64, tol_m: f64, budget: &mut usize) -> Result<Piece> {
     let ctx = format!("BLOCK {:?}", b.name);
     let tol = tol_m / scale;
     let mut loops = Vec::new();
+    let mut cutouts = Vec::new();
     let mut open = Vec::new();
     let (mut turns, mut notches, mut internal, mut grain) = (Vec::new(), Vec::new(), Vec::new(), None);
     for e in &b.entities {
@@ -130,7 +145,7 @@ fn piece(file: &str, b: &Block, scale: f64, tol_m: f64, budget: &mut usize) -> R
             }
             continue;
         }
-        if !matches!(layer, "1" | "4" | "7" | "8") {
+        if !matches!(layer, "1" | "4" | "7" | "8" | "11" | "80" | "81" | "82" | "83") {
             continue;
         }
         let Some(path) = geometry::path(file, &ctx, e, tol)? else { continue };
@@ -144,7 +159,8 @@ fn piece(file: &str, b: &Block, scale: f64, tol_m: f64, budget: &mut usize) -> R
             "1" if path.closed => loops.push(pts),
             "1" => open.push(pts),
             // A slit notch is drawn as a short line starting on the boundary.
-            "4" => notches.push(pts[0]),
+            "4" | "80" | "81" | "82" | "83" => notches.push(pts[0]),
+            "11" if path.closed && pts.len() >= 3 => cutouts.push(pts),
             "7" if grain.is_none() && pts.len() >= 2 => grain = Some([pts[0], pts[pts.len() - 1]]),
             "8" => {
                 let mut p = pts;
@@ -191,7 +207,13 @@ fn piece(file: &str, b: &Block, scale: f64, tol_m: f64, budget: &mut usize) -> R
     }
     let mut nested = outline::nest(loops);
     nested.sort_by(|a, b| outline::signed_area(&b.0).total_cmp(&outline::signed_area(&a.0)));
-    let (mut outline_pts, holes) = nested.swap_remove(0);
+    let (mut outline_pts, mut holes) = nested.swap_remove(0);
+    for mut c in cutouts {
+        if outline::contains(&outline_pts, c[0]) && outline::signed_area(&c).abs() > 0.0 {
+            outline::orient(&mut c, false);
+            holes.push(c);
+        }
+    }
 
     let snap = 5e-4;
     let mut fixed_pts = Vec::new();
@@ -208,7 +230,6 @@ fn piece(file: &str, b: &Block, scale: f64, tol_m: f64, budget: &mut usize) -> R
     }
     fixed.sort_unstable();
     fixed.dedup();
-    let name = annotations(b.entities.iter(), "piece name").unwrap_or_else(|| b.name.clone());
     Ok(Piece {
         name,
         outline: outline_pts,

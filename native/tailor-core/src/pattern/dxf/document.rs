@@ -1,6 +1,6 @@
 //! The DXF document structure: header variables, blocks and the entities section, with each
 //! entity's groups kept raw. POLYLINE entities own the VERTEX entities that follow them up to
-//! SEQEND, so later stages see one entity per drawn object.
+//! SEQEND (and INSERTs their ATTRIBs), so later stages see one entity per drawn object.
 
 use super::tokenizer::Group;
 
@@ -10,7 +10,7 @@ pub struct Entity {
     pub kind: String,
     pub line: usize,
     pub groups: Vec<(i32, String)>,
-    /// VERTEX children of a POLYLINE.
+    /// VERTEX children of a POLYLINE, ATTRIB children of an INSERT.
     pub vertices: Vec<Entity>,
 }
 
@@ -149,8 +149,13 @@ fn read_entity(groups: &[Group], start: usize) -> (Entity, usize) {
         e.groups.push((groups[i].code, groups[i].value.clone()));
         i += 1;
     }
-    if e.kind == "POLYLINE" {
-        while i < groups.len() && groups[i].value.eq_ignore_ascii_case("VERTEX") {
+    let child = match e.kind.as_str() {
+        "POLYLINE" => "VERTEX",
+        "INSERT" => "ATTRIB",
+        _ => "",
+    };
+    if !child.is_empty() {
+        while i < groups.len() && groups[i].value.eq_ignore_ascii_case(child) {
             let (v, next) = read_entity(groups, i);
             e.vertices.push(v);
             i = next;

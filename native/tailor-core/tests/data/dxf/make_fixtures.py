@@ -50,6 +50,8 @@ def aama():
         b += g(0, "BLOCK") + g(8, 0) + g(2, f"BACK_{size}") + g(70, 64) + g(10, 0) + g(20, 0)
         b += text(1, 50, 150, "Piece Name: BACK") + text(1, 50, 140, f"Size: {size}")
         b += polyline(1, sc([(0, 0), (40, 280), (180, 280), (220, 0)]), closed=True)
+        # An internal cutout (layer 11): a 20 mm square hole.
+        b += polyline(11, sc([(100, 100), (120, 100), (120, 120), (100, 120)]), closed=True)
         b += line(7, (110 * k, 50 * k), (110 * k, 250 * k))
         b += g(0, "ENDBLK") + g(8, 0)
         blocks += b
@@ -86,6 +88,22 @@ def plain():
     open("synthetic_plain.dxf", "w", newline="\n").write(out)
 
 
+def attrib():
+    """Piece name and size in ATTRIBs following the INSERT instead of TEXT in the block."""
+    b = g(0, "BLOCK") + g(8, 0) + g(2, "B1") + g(70, 2) + g(10, 0) + g(20, 0)
+    b += polyline(1, [(0, 0), (4, 0), (4, 2), (0, 2)], closed=True)
+    b += g(0, "ENDBLK")
+    e = g(0, "INSERT") + g(8, 1) + g(66, 1) + g(2, "B1") + g(10, 0) + g(20, 0)
+    for tag, val in (("PIECE", "Piece Name: CUFF"), ("SIZE", "Size: 10")):
+        e += g(0, "ATTRIB") + g(8, 1) + g(10, 0) + g(20, 0) + g(40, 0.2) + g(1, val) + g(2, tag) + g(70, 0)
+    e += g(0, "SEQEND") + g(8, 1)
+    e += text(1, 0, 0, "Units: ENGLISH")
+    out = g(0, "SECTION") + g(2, "BLOCKS") + b + g(0, "ENDSEC")
+    out += g(0, "SECTION") + g(2, "ENTITIES") + e + g(0, "ENDSEC") + g(0, "EOF")
+    open("synthetic_attrib.dxf", "w", newline="\n").write(out)
+
+
 aama()
 plain()
+attrib()
 print("front M perimeter mm:", 200 + 300 + 300 + 125 * 4 * math.atan(0.5))

@@ -154,6 +154,14 @@ fn check_dxf_against_scan(file: &str, pieces: usize) {
         close(got, len * units, 0.005, &format!("{file} {name}"));
         assert!(pc.grain.is_some(), "{name} has no grain line");
         assert!(pc.fixed_vertices.len() >= 3, "{name} has {} fixed vertices", pc.fixed_vertices.len());
+        // Notches on the boundary became fixed outline vertices.
+        for q in &pc.notches {
+            let i = pc.outline.iter().position(|v| outline::dist(*v, *q) < 1e-9);
+            assert!(
+                i.is_some_and(|i| pc.fixed_vertices.contains(&i)),
+                "{file} {name}: notch {q:?} is not a fixed vertex"
+            );
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! Every closed subpath of a `path`, `rect`, `circle`, `ellipse`, `polygon` or closed
 //! `polyline` is an outline; open ones are internal lines of the piece they start in. Shapes
 //! inside a `<g>` that has an `inkscape:label` or `id` (and is not an Inkscape layer) form one
-//! piece named after the group; other outlines are pieces named by their own
+//! piece named after the nearest such group (several outlines in it: `name 2`, `name 3`...); other outlines are pieces named by their own
 //! `inkscape:label`, else `id`, else `piece N`. An outline inside another is its hole.
 //! `transform`s are composed through nested groups; `<defs>`, `<use>`, clip paths, masks,
 //! markers and text are ignored.
@@ -162,7 +162,9 @@ fn walk(ctx: &mut Ctx, n: Node, parent: &Transform, group: Option<usize>, depth:
             } else {
                 None
             };
-            let g = group.or(g);
+            // The nearest named group owns a shape, so a wrapper group around labelled pieces
+            // does not swallow them.
+            let g = g.or(group);
             for c in n.children().filter(|c| c.is_element()) {
                 walk(ctx, c, &m, g, depth + 1)?;
             }

@@ -9,6 +9,11 @@
 //! `Units:` (ENGLISH = inches, METRIC = millimetres) and `Sample Size:` in ENTITIES. Without
 //! `Units:` or `$INSUNITS` a file is read as inches, AAMA's default ENGLISH.
 //!
+//! Fixed vertices are the layer-2 turn points and the notches (inserted into the outline when
+//! they fall on an edge), plus every vertex where the outline turns by more than 30°: AccuMark
+//! writes turn points and notches only in the sample-size blocks, so other sizes rely on the
+//! angle rule.
+//!
 //! A graded nest has one block per piece per size. The size imported by default is the one
 //! the file marks with `Sample Size:`; when nothing marks it, it is the middle size of the
 //! list in file order (the lower middle for an even count), which is where graded rules put

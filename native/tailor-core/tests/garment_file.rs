@@ -30,7 +30,7 @@ fn garment() -> Garment {
     g.pieces.push(GarmentPiece {
         source: sl,
         options: so,
-        placement: Some(Placement { translation: [0.3, 1.2, 0.0], rotation_deg: [0.0, 0.0, -80.0] }),
+        placement: Some(Placement { translation: [0.3, 1.2, 0.0], rotation_deg: [0.0, 0.0, -80.0], flipped: false }),
         bend: Some(bend),
     });
     g.seams.push(seam);

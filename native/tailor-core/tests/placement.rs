@@ -12,7 +12,7 @@ fn placement_rotates_then_translates() {
     let mut p = rectangle("front", 0.3, 0.4);
     let m = triangulate_piece(&p, &TriangulateOptions::new(0.05)).unwrap();
     // 90° about y: the piece's +x goes to world -z; then shifted by t.
-    let pl = Placement { translation: [0.1, 1.0, 0.2], rotation_deg: [0.0, 90.0, 0.0] };
+    let pl = Placement { translation: [0.1, 1.0, 0.2], rotation_deg: [0.0, 90.0, 0.0], flipped: false };
     let world = place_piece(&m, &pl).unwrap();
     for (w, r) in world.iter().zip(&m.rest) {
         assert!((w[0] - 0.1).abs() < 1e-6 && (w[1] - (1.0 + r[1])).abs() < 1e-6 && (w[2] - (0.2 - r[0])).abs() < 1e-6);

@@ -16,6 +16,12 @@ pub struct Placement {
     pub translation: [f64; 3],
     /// Rotation as XYZ Euler angles in degrees (GarmentCode's convention).
     pub rotation_deg: [f64; 3],
+    /// True when the file listed the outline clockwise and the reader reversed it to the
+    /// model's counter-clockwise order. The file's order carried which side faces out
+    /// (GarmentCode writes back panels clockwise so that their normal points away from the
+    /// body): a flipped piece faces out along its local −z axis, an unflipped one along +z.
+    #[serde(default)]
+    pub flipped: bool,
 }
 
 /// A marked run of outline vertices, used to name the edges that a stitch joins.

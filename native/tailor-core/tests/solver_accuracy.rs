@@ -3,22 +3,6 @@
 use tailor_core::scenes::sewn_tube;
 use tailor_core::solver::{Fabric, Method, ReferenceOptions, Simulation, SolverSettings, StepMeasurement};
 
-/// The sewn tube two frames after the start, its seams still a few centimetres open: a step
-/// whose solution is far from the inertial prediction, so relative errors are well above the
-/// f32 floor. One substep per frame.
-fn closing_tube() -> Simulation {
-    let tube = sewn_tube(0.4, 0.4, 0.02, 0.1, 0.0, 500.0).unwrap();
-    let settings = SolverSettings { substeps: 1, ..Default::default() };
-    let mut sim = Simulation::new(tube.mesh, Fabric::default(), settings).unwrap();
-    for s in tube.seams {
-        sim.add_seam(s).unwrap();
-    }
-    for _ in 0..2 {
-        sim.step(1.0 / 60.0).unwrap();
-    }
-    sim
-}
-
 /// A 0.1 × 0.5 m strip hung from its top edge but placed 10 % too long, so the step must pull
 /// it up by millimetres: a stretch-dominated step, far above the f32 floor.
 fn stretched_strip() -> Simulation {

@@ -117,3 +117,30 @@ fn bending_keeps_a_creased_fold() {
     assert!((creased - 90.0).abs() < 15.0, "creased fold opened to {creased}°");
     assert!(flat > 150.0, "a flat rest shape should let the fold open, got {flat}°");
 }
+
+/// With a tolerance, a settled cloth stops iterating early, and the step reports how many
+/// iterations it used; without one, every substep runs the full budget.
+#[test]
+fn early_stop_uses_fewer_iterations_once_settled() {
+    let (rest, tris) = rectangle(0.3, 0.3, 10, 10);
+    let pos: Vec<[f32; 3]> = rest.iter().map(|r| [r[0], 0.0, r[1]]).collect();
+    let mesh = ClothMesh::new(pos, rest, tris).unwrap();
+    let settings = SolverSettings { tolerance: 5e-2, iterations: 50, air_damping: 3.0, ..Default::default() };
+    let mut sim = Simulation::new(mesh.clone(), Fabric::default(), settings).unwrap();
+    let top: Vec<u32> = (110..121).collect();
+    sim.pin(&top, None).unwrap();
+    let first = sim.step(1.0 / 30.0).unwrap();
+    let mut last = first.clone();
+    for _ in 0..60 {
+        last = sim.step(1.0 / 30.0).unwrap();
+    }
+    println!(
+        "iterations used: first frame {} (residual {:.2e}), settled {} (residual {:.2e})",
+        first.iterations, first.residual, last.iterations, last.residual
+    );
+    assert!(last.iterations < 4 * 50, "settled cloth still used the whole budget");
+    assert!(last.residual < 5e-2);
+    let mut full =
+        Simulation::new(mesh, Fabric::default(), SolverSettings { iterations: 50, ..Default::default() }).unwrap();
+    assert_eq!(full.step(1.0 / 30.0).unwrap().iterations, 4 * 50);
+}

@@ -1,6 +1,7 @@
 """Type stubs of the native extension ``tailor._tailor`` (checked against the built module by
 ``tests/test_stub.py``)."""
 
+from os import PathLike
 from typing import Any, Sequence
 
 import numpy as np
@@ -130,3 +131,17 @@ def sewn_tube(
     bottom: float = 0.0,
     seam_stiffness: float = 1000.0,
 ) -> dict[str, Any]: ...
+
+def read_mesh(path: str | PathLike[str]) -> tuple[F32, npt.NDArray[np.uint32]]: ...
+
+class AnimatedMesh:
+    num_vertices: int
+    triangles: npt.NDArray[np.uint32]
+    animations: list[tuple[str, float]]
+    def __init__(self, path: str | PathLike[str]) -> None: ...
+    def positions_at(self, time: float, animation: int | None = 0) -> F32: ...
+
+def read_pc2(path: str | PathLike[str]) -> dict[str, Any]: ...
+def write_pc2(
+    path: str | PathLike[str], frames: ArrayLike, start_frame: float = 0.0, sample_rate: float = 1.0
+) -> None: ...

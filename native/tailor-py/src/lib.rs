@@ -6,6 +6,7 @@
 
 mod convert;
 mod errors;
+mod io;
 mod scenes;
 mod settings;
 mod simulation;
@@ -20,5 +21,9 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<settings::Settings>()?;
     m.add_class::<simulation::Simulation>()?;
     m.add_function(wrap_pyfunction!(scenes::sewn_tube, m)?)?;
+    m.add_class::<io::AnimatedMesh>()?;
+    m.add_function(wrap_pyfunction!(io::read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(io::read_pc2, m)?)?;
+    m.add_function(wrap_pyfunction!(io::write_pc2, m)?)?;
     Ok(())
 }

@@ -13,7 +13,7 @@ use super::constraints::seam::BoundaryEdges;
 use super::constraints::triangle::strain_coefficients;
 use super::constraints::{Attachment, Seam, StencilSet, TriangleSet};
 use super::settings::Fabric;
-use super::soa::Vec3Soa;
+use super::soa::{vec_bytes, Vec3Soa};
 use super::system::{SparseSym, SparseSym32};
 
 /// Where each constraint's right-hand-side contribution lands: triangles own slots `3t..3t+3`;
@@ -27,6 +27,16 @@ pub struct SlotLayout {
     pub total: usize,
     pub particle_offsets: Vec<u32>,
     pub particle_slots: Vec<u32>,
+}
+
+impl SlotLayout {
+    /// Heap bytes of the layout.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.curved)
+            + vec_bytes(&self.curved_base)
+            + vec_bytes(&self.particle_offsets)
+            + vec_bytes(&self.particle_slots)
+    }
 }
 
 /// Everything about the system that is not the moving state.
@@ -116,6 +126,30 @@ impl Model {
 
     pub fn n(&self) -> usize {
         self.mass.len()
+    }
+
+    /// The heap size of the model in bytes: the sum of the capacities of every `Vec` it owns
+    /// (mesh, masses, constraints, seams, both matrices, colouring, slot layout, `b_const`).
+    /// Fixed-size fields and allocator overhead are not counted.
+    pub fn memory_bytes(&self) -> usize {
+        let seams: usize =
+            vec_bytes(&self.seams) + self.seams.iter().map(|s| vec_bytes(&s.pairs) + s.name.capacity()).sum::<usize>();
+        self.mesh.memory_bytes()
+            + vec_bytes(&self.base_mass)
+            + vec_bytes(&self.mass_scale)
+            + vec_bytes(&self.mass)
+            + self.triangles.memory_bytes()
+            + self.bending.memory_bytes()
+            + seams
+            + self.seam_pairs.memory_bytes()
+            + self.seam_hinges.memory_bytes()
+            + vec_bytes(&self.attachments)
+            + vec_bytes(&self.pinned)
+            + self.matrix.memory_bytes()
+            + self.matrix32.memory_bytes()
+            + self.colouring.memory_bytes()
+            + self.slots.memory_bytes()
+            + self.b_const.memory_bytes()
     }
 
     /// Scales each particle's mass (painted mass maps); scales must be positive and finite.

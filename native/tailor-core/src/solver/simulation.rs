@@ -128,6 +128,26 @@ impl Simulation {
         self.time
     }
 
+    /// The heap size of the solver's whole state in bytes: the [`Model`] (see
+    /// [`Model::memory_bytes`]) plus every per-particle array of the moving state and the
+    /// scratch buffers (positions, velocities, predictions, iterates, right-hand side, diagonal,
+    /// slots, contacts, pin targets, the free list, colliders). Counts `Vec` capacities, not
+    /// allocator overhead or the fixed-size struct itself.
+    pub fn memory_bytes(&self) -> usize {
+        use super::soa::vec_bytes;
+        self.model.memory_bytes()
+            + vec_bytes(&self.colliders)
+            + [&self.x, &self.v, &self.x_start, &self.y, &self.x_prev_iter, &self.x_this_iter, &self.rhs_fixed]
+                .iter()
+                .map(|s| s.memory_bytes())
+                .sum::<usize>()
+            + vec_bytes(&self.diag)
+            + vec_bytes(&self.slots)
+            + self.contacts.memory_bytes()
+            + self.pin_target.memory_bytes()
+            + vec_bytes(&self.free)
+    }
+
     /// Replaces the settings (validated first; nothing changes on error).
     pub fn set_settings(&mut self, settings: SolverSettings) -> Result<()> {
         settings.validate()?;

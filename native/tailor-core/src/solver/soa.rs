@@ -5,6 +5,12 @@
 
 use glam::Vec3;
 
+/// Heap bytes a `Vec` holds (its capacity, not its length), for the memory reports.
+#[inline]
+pub fn vec_bytes<T>(v: &Vec<T>) -> usize {
+    v.capacity() * std::mem::size_of::<T>()
+}
+
 /// Three parallel `f32` arrays, one per coordinate.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Vec3Soa {
@@ -50,6 +56,11 @@ impl Vec3Soa {
 
     pub fn len(&self) -> usize {
         self.x.len()
+    }
+
+    /// Heap bytes of the three arrays.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.x) + vec_bytes(&self.y) + vec_bytes(&self.z)
     }
 
     pub fn is_empty(&self) -> bool {

@@ -8,6 +8,7 @@
 //! the colouring separates.
 
 use super::constraints::{Attachment, StencilSet, TriangleSet};
+use super::soa::vec_bytes;
 
 /// Symmetric sparse matrix: diagonal plus off-diagonal entries by row (both triangles stored).
 #[derive(Debug, Clone, Default)]
@@ -27,9 +28,21 @@ pub struct SparseSym32 {
     pub vals: Vec<f32>,
 }
 
+impl SparseSym32 {
+    /// Heap bytes of the rows.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.diag) + vec_bytes(&self.offsets) + vec_bytes(&self.cols) + vec_bytes(&self.vals)
+    }
+}
+
 impl SparseSym {
     pub fn n(&self) -> usize {
         self.diag.len()
+    }
+
+    /// Heap bytes of the rows.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.diag) + vec_bytes(&self.offsets) + vec_bytes(&self.cols) + vec_bytes(&self.vals)
     }
 
     pub fn row(&self, i: usize) -> std::ops::Range<usize> {

@@ -42,6 +42,16 @@ impl StencilSet {
         self.weights.is_empty()
     }
 
+    /// Heap bytes of the compressed rows.
+    pub fn memory_bytes(&self) -> usize {
+        use crate::solver::soa::vec_bytes;
+        vec_bytes(&self.offsets)
+            + vec_bytes(&self.verts)
+            + vec_bytes(&self.coefs)
+            + vec_bytes(&self.weights)
+            + vec_bytes(&self.rest)
+    }
+
     /// Appends a constraint; terms on the same vertex are merged.
     pub fn push(&mut self, terms: &[(u32, f32)], weight: f32, rest: f32) {
         let start = self.verts.len();

@@ -36,6 +36,12 @@ impl TriangleSet {
     pub fn is_empty(&self) -> bool {
         self.verts.is_empty()
     }
+
+    /// Heap bytes of the per-triangle arrays.
+    pub fn memory_bytes(&self) -> usize {
+        use crate::solver::soa::vec_bytes;
+        vec_bytes(&self.verts) + vec_bytes(&self.g) + vec_bytes(&self.w_stretch) + vec_bytes(&self.w_shear)
+    }
 }
 
 /// The F-coefficients `g` of a rest triangle (see the module doc). `None` if degenerate.

@@ -11,6 +11,9 @@
 //! Figures per (size, threads):
 //! * `ns/p-it`: (local + global time of a step) / (particles × iterations of the step);
 //! * `ms/sub`: all four stages of a step / substeps; `ms/frame`: wall time of `step(1/30)`;
+//! * `cpu-ms/fr`: CPU time of all the process's threads during that step (Linux only): on a
+//!   shared machine, wall time includes time the cores ran other processes, this does not
+//!   (it does include rayon workers spinning while they wait);
 //! * the stage split per substep (prediction, local, global, damping), ms;
 //! * colours of the particle graph; `B/p`: `Simulation::memory_bytes()` / particles.
 //!
@@ -91,6 +94,20 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
+/// CPU time consumed so far by all threads of this process, seconds (Linux
+/// `/proc/self/task/*/schedstat`; 0 elsewhere). On a loaded machine this is the figure that
+/// does not count the time other processes had the cores.
+fn process_cpu_seconds() -> f64 {
+    let Ok(dir) = std::fs::read_dir("/proc/self/task") else { return 0.0 };
+    let mut ns = 0u64;
+    for e in dir.flatten() {
+        if let Ok(s) = std::fs::read_to_string(e.path().join("schedstat")) {
+            ns += s.split_whitespace().next().and_then(|v| v.parse::<u64>().ok()).unwrap_or(0);
+        }
+    }
+    ns as f64 * 1e-9
+}
+
 fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -121,6 +138,7 @@ struct Samples {
     ns_per_pit: Vec<f64>,
     ms_substep: Vec<f64>,
     ms_frame: Vec<f64>,
+    cpu_ms_frame: Vec<f64>,
     pred: Vec<f64>,
     local: Vec<f64>,
     global: Vec<f64>,
@@ -129,12 +147,13 @@ struct Samples {
 }
 
 impl Samples {
-    fn push(&mut self, st: &StepStats, wall: f64, n: usize) {
+    fn push(&mut self, st: &StepStats, wall: f64, cpu: f64, n: usize) {
         let t = &st.timings;
         let sub = st.substeps as f64;
         self.ns_per_pit.push((t.local + t.global) * 1e9 / (n as f64 * st.iterations as f64));
         self.ms_substep.push(t.total() * 1e3 / sub);
         self.ms_frame.push(wall * 1e3);
+        self.cpu_ms_frame.push(cpu * 1e3);
         self.pred.push(t.prediction * 1e3 / sub);
         self.local.push(t.local * 1e3 / sub);
         self.global.push(t.global * 1e3 / sub);
@@ -160,8 +179,20 @@ fn main() {
         args.edge, s.substeps, s.iterations, s.method
     );
     println!(
-        "{:>8} {:>3} {:>8} {:>8} {:>9} {:>7} {:>7} {:>7} {:>7} {:>4} {:>6} {:>6}",
-        "parts", "thr", "ns/p-it", "ms/sub", "ms/frame", "pred", "local", "global", "damp", "col", "B/p", "closed"
+        "{:>8} {:>3} {:>8} {:>8} {:>9} {:>9} {:>7} {:>7} {:>7} {:>7} {:>4} {:>6} {:>6}",
+        "parts",
+        "thr",
+        "ns/p-it",
+        "ms/sub",
+        "ms/frame",
+        "cpu-ms/fr",
+        "pred",
+        "local",
+        "global",
+        "damp",
+        "col",
+        "B/p",
+        "closed"
     );
     let mut json_rows = Vec::new();
     for &target in &args.sizes {
@@ -177,10 +208,10 @@ fn main() {
         let mut samples: Vec<Samples> = pools.iter().map(|_| Samples::default()).collect();
         for _ in 0..steps {
             for ((_, pool), smp) in pools.iter().zip(samples.iter_mut()) {
-                let t0 = Instant::now();
+                let (c0, t0) = (process_cpu_seconds(), Instant::now());
                 let st = pool.install(|| sim.step(dt)).expect("step");
                 let wall = t0.elapsed().as_secs_f64();
-                smp.push(&st, wall, n);
+                smp.push(&st, wall, process_cpu_seconds() - c0, n);
                 last = Some(st);
             }
         }
@@ -196,14 +227,16 @@ fn main() {
                 m(&smp.local),
                 m(&smp.global),
                 m(&smp.damping),
+                m(&smp.cpu_ms_frame),
             );
             println!(
-                "{:>8} {:>3} {:>8.1} {:>8.3} {:>9.2} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>4} {:>6.0} {:>6.2}",
+                "{:>8} {:>3} {:>8.1} {:>8.3} {:>9.2} {:>9.2} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>4} {:>6.0} {:>6.2}",
                 n,
                 k,
                 row.0,
                 row.1,
                 row.2,
+                row.7,
                 row.3,
                 row.4,
                 row.5,
@@ -220,6 +253,7 @@ fn main() {
                 "ns_per_particle_iteration": row.0,
                 "ms_per_substep": row.1,
                 "ms_per_frame": row.2,
+                "cpu_ms_per_frame": row.7,
                 "ms_prediction": row.3,
                 "ms_local": row.4,
                 "ms_global": row.5,

@@ -7,8 +7,14 @@
 //! squared GS residual `Σ Dᵢ²‖Δxᵢ‖²` (the gradient of the objective at the partially updated
 //! state) and the squared update norm `Σ‖Δxᵢ‖²`, summed in a fixed chunk order so results do
 //! not depend on thread scheduling.
+//!
+//! The sweep runs on an interleaved copy of the positions (`Vec3A`, 16 bytes per particle,
+//! see [`AosPtr`]) rather than on the three coordinate arrays: a neighbour read is then one
+//! aligned load from one cache line instead of three, and the `xⱼ·Lᵢⱼ` products are SSE
+//! lane-wise operations. Lane-wise IEEE arithmetic gives bit-identical results to the scalar
+//! code, so this changes speed only.
 
-use glam::Vec3;
+use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::soa::{SoaPtr, Vec3Soa};
@@ -24,7 +30,7 @@ pub(crate) struct GlobalSystem<'a> {
     pub diag: &'a [f32],
     /// `mᵢ/h²·yᵢ + b_constᵢ`.
     pub rhs_fixed: &'a Vec3Soa,
-    pub slots: &'a [Vec3],
+    pub slots: &'a [Vec3A],
     pub slot_offsets: &'a [u32],
     pub slot_index: &'a [u32],
     pub contact_weight: &'a [f32],
@@ -46,32 +52,44 @@ impl SweepNorms {
 
 impl GlobalSystem<'_> {
     /// The row solve: the new value of particle `i` given its neighbours (read via `get`) and
-    /// the row's diagonal.
+    /// the row's diagonal. The sums run in the same order as the scalar formula
+    /// `(rhsᵢ + Σ slots − Σⱼ Lᵢⱼ·xⱼ + wᵢ·tᵢ) / (Dᵢ + wᵢ)`, lane by lane.
     #[inline(always)]
-    fn row(&self, i: usize, get: impl Fn(usize) -> Vec3) -> (Vec3, f32) {
+    fn row(&self, i: usize, get: impl Fn(usize) -> Vec3A) -> (Vec3A, f32) {
         let m = self.matrix;
-        let mut r = self.rhs_fixed.get(i);
-        for s in self.slot_offsets[i]..self.slot_offsets[i + 1] {
-            r += self.slots[self.slot_index[s as usize] as usize];
+        let mut r = Vec3A::from(self.rhs_fixed.get(i));
+        let slots = &self.slot_index[self.slot_offsets[i] as usize..self.slot_offsets[i + 1] as usize];
+        for &s in slots {
+            r += self.slots[s as usize];
         }
-        for k in m.offsets[i] as usize..m.offsets[i + 1] as usize {
-            r -= get(m.cols[k] as usize) * m.vals[k];
+        let (a, b) = (m.offsets[i] as usize, m.offsets[i + 1] as usize);
+        for (&j, &l) in m.cols[a..b].iter().zip(&m.vals[a..b]) {
+            r -= get(j as usize) * l;
         }
         let mut d = self.diag[i];
         let cw = self.contact_weight[i];
         if cw > 0.0 {
-            r += self.contact_target.get(i) * cw;
+            r += Vec3A::from(self.contact_target.get(i)) * cw;
             d += cw;
         }
         (r / d, d)
     }
 
-    /// One Gauss-Seidel sweep over the colour groups, in place.
-    pub fn gauss_seidel(&self, groups: &[Vec<u32>], x: &mut Vec3Soa) -> SweepNorms {
-        let xp = SoaPtr::new(x);
+    /// One Gauss-Seidel sweep over the colour groups, in place. `work` is scratch for the
+    /// interleaved copy of `x` (see the module doc) and `parts` for the per-chunk sums; both
+    /// keep their allocations between calls.
+    pub fn gauss_seidel(
+        &self,
+        groups: &[Vec<u32>],
+        x: &mut Vec3Soa,
+        work: &mut Vec<Vec3A>,
+        parts: &mut Vec<SweepNorms>,
+    ) -> SweepNorms {
+        pack(x, work);
+        let xp = AosPtr(work.as_mut_ptr(), work.len());
         let mut total = SweepNorms::default();
         for group in groups {
-            let parts: Vec<SweepNorms> = group
+            group
                 .par_chunks(CHUNK)
                 .map(|chunk| {
                     let mut acc = SweepNorms::default();
@@ -89,9 +107,11 @@ impl GlobalSystem<'_> {
                     }
                     acc
                 })
-                .collect();
-            total = parts.into_iter().fold(total, SweepNorms::add);
+                .collect_into_vec(parts);
+            // Chunk order, not completion order: the sums do not depend on the thread count.
+            total = parts.iter().copied().fold(total, SweepNorms::add);
         }
+        unpack(work, x);
         total
     }
 
@@ -104,11 +124,11 @@ impl GlobalSystem<'_> {
                 let mut acc = SweepNorms::default();
                 for &i in chunk {
                     let i = i as usize;
-                    let (target, d) = self.row(i, |j| old.get(j));
-                    let o = old.get(i);
+                    let (target, d) = self.row(i, |j| Vec3A::from(old.get(j)));
+                    let o = Vec3A::from(old.get(i));
                     let new = o + (target - o) * relaxation;
                     // SAFETY: each index is written by one task; reads go to `old`.
-                    unsafe { xp.set(i, new) };
+                    unsafe { xp.set(i, new.into()) };
                     let u2 = (new - o).length_squared() as f64;
                     acc.update2 += u2;
                     acc.residual2 += (target - o).length_squared() as f64 * (d as f64) * (d as f64);
@@ -128,5 +148,58 @@ pub(crate) fn extrapolate(x: &mut Vec3Soa, prev: &Vec3Soa, omega: f32) {
                 *v = omega * (*v - p) + p;
             }
         });
+    }
+}
+
+/// Particles per task of the pack and unpack copies.
+const COPY_CHUNK: usize = 4096;
+
+/// `work ← x` in the interleaved layout.
+fn pack(x: &Vec3Soa, work: &mut Vec<Vec3A>) {
+    work.resize(x.len(), Vec3A::ZERO);
+    work.par_chunks_mut(COPY_CHUNK).enumerate().for_each(|(c, out)| {
+        let base = c * COPY_CHUNK;
+        let (xs, ys, zs) = (&x.x[base..base + out.len()], &x.y[base..base + out.len()], &x.z[base..base + out.len()]);
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = Vec3A::new(xs[k], ys[k], zs[k]);
+        }
+    });
+}
+
+/// `x ← work` back to the coordinate arrays.
+fn unpack(work: &[Vec3A], x: &mut Vec3Soa) {
+    let Vec3Soa { x: xs, y: ys, z: zs } = x;
+    xs.par_chunks_mut(COPY_CHUNK)
+        .zip(ys.par_chunks_mut(COPY_CHUNK))
+        .zip(zs.par_chunks_mut(COPY_CHUNK))
+        .zip(work.par_chunks(COPY_CHUNK))
+        .for_each(|(((a, b), c), w)| {
+            for k in 0..w.len() {
+                a[k] = w[k].x;
+                b[k] = w[k].y;
+                c[k] = w[k].z;
+            }
+        });
+}
+
+/// A raw view of the interleaved positions that the sweep writes through; same safety
+/// contract as [`SoaPtr`].
+#[derive(Clone, Copy)]
+struct AosPtr(*mut Vec3A, usize);
+
+unsafe impl Send for AosPtr {}
+unsafe impl Sync for AosPtr {}
+
+impl AosPtr {
+    #[inline(always)]
+    unsafe fn get(&self, i: usize) -> Vec3A {
+        debug_assert!(i < self.1);
+        *self.0.add(i)
+    }
+
+    #[inline(always)]
+    unsafe fn set(&self, i: usize, v: Vec3A) {
+        debug_assert!(i < self.1);
+        *self.0.add(i) = v;
     }
 }

@@ -90,7 +90,7 @@ impl Simulation {
         let mut slots = std::mem::take(&mut self.slots);
         let mut rhs = vec![0.0f64; nf];
         // The local/global map G(x) = (M/h² + L + C)⁻¹·b(x).
-        let mut global = |this: &Self, x32: &Vec3Soa, slots: &mut Vec<glam::Vec3>| -> Vec<f64> {
+        let mut global = |this: &Self, x32: &Vec3Soa, slots: &mut Vec<glam::Vec3A>| -> Vec<f64> {
             project_all(&this.model, x32, slots);
             let m = &this.model;
             let mut out = vec![0.0f64; 3 * nf];

@@ -14,7 +14,7 @@
 
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use crate::error::{Result, TailorError};
 use crate::mesh::{check_finite3, ClothMesh};
@@ -47,7 +47,10 @@ pub struct Simulation {
     x_this_iter: Vec3Soa,
     pub(crate) rhs_fixed: Vec3Soa,
     pub(crate) diag: Vec<f32>,
-    pub(crate) slots: Vec<Vec3>,
+    pub(crate) slots: Vec<Vec3A>,
+    /// Scratch of the Gauss-Seidel sweep: interleaved positions and per-chunk sums.
+    sweep_work: Vec<Vec3A>,
+    sweep_parts: Vec<SweepNorms>,
     pub(crate) contacts: ContactSet,
     pin_target: Vec3Soa,
     ramp: Ramp,
@@ -95,6 +98,8 @@ impl Simulation {
             rhs_fixed: Vec3Soa::zeros(n),
             diag: vec![0.0; n],
             slots: Vec::new(),
+            sweep_work: Vec::new(),
+            sweep_parts: Vec::new(),
             contacts,
             pin_target: x.clone(),
             x,
@@ -143,6 +148,8 @@ impl Simulation {
                 .sum::<usize>()
             + vec_bytes(&self.diag)
             + vec_bytes(&self.slots)
+            + vec_bytes(&self.sweep_work)
+            + vec_bytes(&self.sweep_parts)
             + self.contacts.memory_bytes()
             + self.pin_target.memory_bytes()
             + vec_bytes(&self.free)
@@ -368,7 +375,7 @@ impl Simulation {
             let inv_h2 = 1.0 / (h * h);
             let m = &self.model;
             self.diag = (0..m.n()).map(|i| m.mass[i] * inv_h2 + m.matrix32.diag[i]).collect();
-            self.slots = vec![Vec3::ZERO; m.slots.total];
+            self.slots = vec![Vec3A::ZERO; m.slots.total];
             self.free = m.colouring.groups.iter().flatten().copied().collect();
             self.free.sort_unstable();
             self.h_prepared = h;
@@ -455,8 +462,11 @@ impl Simulation {
                 Method::GaussSeidel | Method::Chebyshev => {
                     self.x_this_iter.copy_from(&self.x);
                     let mut x = std::mem::take(&mut self.x);
-                    let n = self.global_system().gauss_seidel(&self.model.colouring.groups, &mut x);
-                    self.x = x;
+                    let (mut work, mut parts) =
+                        (std::mem::take(&mut self.sweep_work), std::mem::take(&mut self.sweep_parts));
+                    let n =
+                        self.global_system().gauss_seidel(&self.model.colouring.groups, &mut x, &mut work, &mut parts);
+                    (self.x, self.sweep_work, self.sweep_parts) = (x, work, parts);
                     if method == Method::Chebyshev {
                         let omega = self.cheb.omega(k, n.update2.sqrt() as f32, &self.settings.chebyshev);
                         out.rho = self.cheb.rho(&self.settings.chebyshev);

@@ -113,12 +113,6 @@ impl SoaPtr {
     }
 
     #[inline(always)]
-    pub unsafe fn get(&self, i: usize) -> Vec3 {
-        debug_assert!(i < self.len);
-        Vec3::new(*self.x.add(i), *self.y.add(i), *self.z.add(i))
-    }
-
-    #[inline(always)]
     pub unsafe fn set(&self, i: usize, v: Vec3) {
         debug_assert!(i < self.len);
         *self.x.add(i) = v.x;

@@ -75,13 +75,15 @@ impl GlobalSystem<'_> {
         (r / d, d)
     }
 
-    /// One Gauss-Seidel sweep over the colour groups, in place. `work` is scratch for the
-    /// interleaved copy of `x` (see the module doc) and `parts` for the per-chunk sums; both
-    /// keep their allocations between calls.
+    /// One Gauss-Seidel sweep over the colour groups starting from `x`. The result is left in
+    /// `work`, the interleaved copy (see the module doc); `x` is not modified, so the caller can
+    /// use it as the previous iterate and write the result back with [`unpack`] or
+    /// [`unpack_extrapolated`]. `parts` is scratch for the per-chunk sums; both buffers keep
+    /// their allocations between calls.
     pub fn gauss_seidel(
         &self,
         groups: &[Vec<u32>],
-        x: &mut Vec3Soa,
+        x: &Vec3Soa,
         work: &mut Vec<Vec3A>,
         parts: &mut Vec<SweepNorms>,
     ) -> SweepNorms {
@@ -111,7 +113,6 @@ impl GlobalSystem<'_> {
             // Chunk order, not completion order: the sums do not depend on the thread count.
             total = parts.iter().copied().fold(total, SweepNorms::add);
         }
-        unpack(work, x);
         total
     }
 
@@ -140,17 +141,6 @@ impl GlobalSystem<'_> {
     }
 }
 
-/// `x ← ω·(x − prev) + prev` for every particle (Chebyshev extrapolation).
-pub(crate) fn extrapolate(x: &mut Vec3Soa, prev: &Vec3Soa, omega: f32) {
-    for (xs, ps) in [(&mut x.x, &prev.x), (&mut x.y, &prev.y), (&mut x.z, &prev.z)] {
-        xs.par_chunks_mut(4096).zip(ps.par_chunks(4096)).for_each(|(a, b)| {
-            for (v, p) in a.iter_mut().zip(b) {
-                *v = omega * (*v - p) + p;
-            }
-        });
-    }
-}
-
 /// Particles per task of the pack and unpack copies.
 const COPY_CHUNK: usize = 4096;
 
@@ -167,7 +157,7 @@ fn pack(x: &Vec3Soa, work: &mut Vec<Vec3A>) {
 }
 
 /// `x ← work` back to the coordinate arrays.
-fn unpack(work: &[Vec3A], x: &mut Vec3Soa) {
+pub(crate) fn unpack(work: &[Vec3A], x: &mut Vec3Soa) {
     let Vec3Soa { x: xs, y: ys, z: zs } = x;
     xs.par_chunks_mut(COPY_CHUNK)
         .zip(ys.par_chunks_mut(COPY_CHUNK))
@@ -202,4 +192,23 @@ impl AosPtr {
         debug_assert!(i < self.1);
         *self.0.add(i) = v;
     }
+}
+
+/// `prev ← ω·(work − prev) + prev` for every particle: Chebyshev's extrapolation of the swept
+/// iterate `work` against the iterate before last, written over the latter (the caller then
+/// swaps it in as the new iterate). Fusing it into the copy back saves a pass over the
+/// positions and a copy of the previous iterate per iteration.
+pub(crate) fn unpack_extrapolated(work: &[Vec3A], prev: &mut Vec3Soa, omega: f32) {
+    let Vec3Soa { x: xs, y: ys, z: zs } = prev;
+    xs.par_chunks_mut(COPY_CHUNK)
+        .zip(ys.par_chunks_mut(COPY_CHUNK))
+        .zip(zs.par_chunks_mut(COPY_CHUNK))
+        .zip(work.par_chunks(COPY_CHUNK))
+        .for_each(|(((a, b), c), w)| {
+            for k in 0..w.len() {
+                a[k] = omega * (w[k].x - a[k]) + a[k];
+                b[k] = omega * (w[k].y - b[k]) + b[k];
+                c[k] = omega * (w[k].z - c[k]) + c[k];
+            }
+        });
 }

@@ -23,7 +23,7 @@ use super::chebyshev::Chebyshev;
 use super::constraints::{Attachment, Seam};
 use super::contacts::{coulomb, resolve_penetrations, ContactSet, ImplicitCollider};
 use super::damping::{decay, Ramp};
-use super::global::{extrapolate, GlobalSystem, SweepNorms};
+use super::global::{unpack, unpack_extrapolated, GlobalSystem, SweepNorms};
 use super::local::project_all;
 use super::model::Model;
 use super::settings::{Fabric, Method, SolverSettings};
@@ -460,20 +460,25 @@ impl Simulation {
                     n
                 }
                 Method::GaussSeidel | Method::Chebyshev => {
-                    self.x_this_iter.copy_from(&self.x);
-                    let mut x = std::mem::take(&mut self.x);
+                    // The sweep leaves x̂ in `sweep_work` and `self.x` (= xᵏ) untouched.
                     let (mut work, mut parts) =
                         (std::mem::take(&mut self.sweep_work), std::mem::take(&mut self.sweep_parts));
                     let n =
-                        self.global_system().gauss_seidel(&self.model.colouring.groups, &mut x, &mut work, &mut parts);
-                    (self.x, self.sweep_work, self.sweep_parts) = (x, work, parts);
+                        self.global_system().gauss_seidel(&self.model.colouring.groups, &self.x, &mut work, &mut parts);
+                    (self.sweep_work, self.sweep_parts) = (work, parts);
                     if method == Method::Chebyshev {
                         let omega = self.cheb.omega(k, n.update2.sqrt() as f32, &self.settings.chebyshev);
                         out.rho = self.cheb.rho(&self.settings.chebyshev);
+                        // xᵏ⁺¹ = ω·(x̂ − xᵏ⁻¹) + xᵏ⁻¹ (just x̂ when ω = 1) overwrites xᵏ⁻¹; the swap
+                        // then makes it the iterate and keeps xᵏ as the next "previous".
                         if omega != 1.0 {
-                            extrapolate(&mut self.x, &self.x_prev_iter, omega);
+                            unpack_extrapolated(&self.sweep_work, &mut self.x_prev_iter, omega);
+                        } else {
+                            unpack(&self.sweep_work, &mut self.x_prev_iter);
                         }
-                        std::mem::swap(&mut self.x_prev_iter, &mut self.x_this_iter);
+                        std::mem::swap(&mut self.x, &mut self.x_prev_iter);
+                    } else {
+                        unpack(&self.sweep_work, &mut self.x);
                     }
                     n
                 }

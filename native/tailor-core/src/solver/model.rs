@@ -95,6 +95,10 @@ impl Model {
                 bending.push(&terms, (3.0 * fabric.bend as f64 / area) as f32, 0.0);
             }
         }
+        // Built by pushing: drop the growth slack (up to half the capacity) kept for the
+        // lifetime of the simulation.
+        triangles.shrink_to_fit();
+        bending.shrink_to_fit();
         let base_mass: Vec<f32> = base_mass.into_iter().map(|m| m as f32).collect();
         for (i, &m) in base_mass.iter().enumerate() {
             if !(m > 0.0 && m.is_finite()) {

@@ -106,6 +106,10 @@ impl SparseSym {
         for i in 0..n {
             offsets[i + 1] += offsets[i];
         }
+        // The reservation above counts duplicate triplets (entries shared by neighbouring
+        // constraints), about twice the final size: give the excess back.
+        cols.shrink_to_fit();
+        vals.shrink_to_fit();
         Self { diag, offsets, cols, vals }
     }
 

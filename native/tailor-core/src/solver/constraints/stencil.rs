@@ -42,6 +42,15 @@ impl StencilSet {
         self.weights.is_empty()
     }
 
+    /// Releases unused capacity (after building by [`StencilSet::push`]).
+    pub fn shrink_to_fit(&mut self) {
+        self.offsets.shrink_to_fit();
+        self.verts.shrink_to_fit();
+        self.coefs.shrink_to_fit();
+        self.weights.shrink_to_fit();
+        self.rest.shrink_to_fit();
+    }
+
     /// Heap bytes of the compressed rows.
     pub fn memory_bytes(&self) -> usize {
         use crate::solver::soa::vec_bytes;

@@ -37,6 +37,14 @@ impl TriangleSet {
         self.verts.is_empty()
     }
 
+    /// Releases unused capacity (after building by pushing).
+    pub fn shrink_to_fit(&mut self) {
+        self.verts.shrink_to_fit();
+        self.g.shrink_to_fit();
+        self.w_stretch.shrink_to_fit();
+        self.w_shear.shrink_to_fit();
+    }
+
     /// Heap bytes of the per-triangle arrays.
     pub fn memory_bytes(&self) -> usize {
         use crate::solver::soa::vec_bytes;

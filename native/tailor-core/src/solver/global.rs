@@ -17,6 +17,7 @@
 use glam::Vec3A;
 use rayon::prelude::*;
 
+use super::model::SweepRows;
 use super::soa::{SoaPtr, Vec3Soa};
 use super::system::SparseSym32;
 
@@ -33,6 +34,8 @@ pub(crate) struct GlobalSystem<'a> {
     pub slots: &'a [Vec3A],
     pub slot_offsets: &'a [u32],
     pub slot_index: &'a [u32],
+    /// The same rows in sweep order (Gauss-Seidel).
+    pub sweep: &'a SweepRows,
     pub contact_weight: &'a [f32],
     pub contact_target: &'a Vec3Soa,
 }
@@ -57,13 +60,26 @@ impl GlobalSystem<'_> {
     #[inline(always)]
     fn row(&self, i: usize, get: impl Fn(usize) -> Vec3A) -> (Vec3A, f32) {
         let m = self.matrix;
-        let mut r = Vec3A::from(self.rhs_fixed.get(i));
         let slots = &self.slot_index[self.slot_offsets[i] as usize..self.slot_offsets[i + 1] as usize];
+        let (a, b) = (m.offsets[i] as usize, m.offsets[i + 1] as usize);
+        self.row_with(i, slots, &m.cols[a..b], &m.vals[a..b], get)
+    }
+
+    /// [`Self::row`] given the particle's slot list and off-diagonal entries.
+    #[inline(always)]
+    fn row_with(
+        &self,
+        i: usize,
+        slots: &[u32],
+        cols: &[u32],
+        vals: &[f32],
+        get: impl Fn(usize) -> Vec3A,
+    ) -> (Vec3A, f32) {
+        let mut r = Vec3A::from(self.rhs_fixed.get(i));
         for &s in slots {
             r += self.slots[s as usize];
         }
-        let (a, b) = (m.offsets[i] as usize, m.offsets[i + 1] as usize);
-        for (&j, &l) in m.cols[a..b].iter().zip(&m.vals[a..b]) {
+        for (&j, &l) in cols.iter().zip(vals) {
             r -= get(j as usize) * l;
         }
         let mut d = self.diag[i];
@@ -80,27 +96,31 @@ impl GlobalSystem<'_> {
     /// use it as the previous iterate and write the result back with [`unpack`] or
     /// [`unpack_extrapolated`]. `parts` is scratch for the per-chunk sums; both buffers keep
     /// their allocations between calls.
-    pub fn gauss_seidel(
-        &self,
-        groups: &[Vec<u32>],
-        x: &Vec3Soa,
-        work: &mut Vec<Vec3A>,
-        parts: &mut Vec<SweepNorms>,
-    ) -> SweepNorms {
+    pub fn gauss_seidel(&self, x: &Vec3Soa, work: &mut Vec<Vec3A>, parts: &mut Vec<SweepNorms>) -> SweepNorms {
         pack(x, work);
         let xp = AosPtr(work.as_mut_ptr(), work.len());
+        let sw = self.sweep;
         let mut total = SweepNorms::default();
-        for group in groups {
-            group
-                .par_chunks(CHUNK)
-                .map(|chunk| {
+        for c in sw.group_start.windows(2) {
+            // Sweep positions of this colour, in chunks of CHUNK from the colour's start (the
+            // same partition as chunking the colour's particle list).
+            let (start, end) = (c[0] as usize, c[1] as usize);
+            (start..end)
+                .into_par_iter()
+                .step_by(CHUNK)
+                .map(|a| {
                     let mut acc = SweepNorms::default();
-                    for &i in chunk {
-                        let i = i as usize;
+                    for p in a..(a + CHUNK).min(end) {
+                        let i = sw.particle[p] as usize;
+                        let (r0, r1) = (sw.row_offsets[p] as usize, sw.row_offsets[p + 1] as usize);
+                        let (s0, s1) = (sw.slot_offsets[p] as usize, sw.slot_offsets[p + 1] as usize);
                         // SAFETY: particles of one colour share no matrix entry, so this
                         // update reads only particles of other colours, which no thread writes
                         // during this colour; each particle is written by its own task only.
-                        let (new, d) = self.row(i, |j| unsafe { xp.get(j) });
+                        let (new, d) =
+                            self.row_with(i, &sw.slot_index[s0..s1], &sw.cols[r0..r1], &sw.vals[r0..r1], |j| unsafe {
+                                xp.get(j)
+                            });
                         let old = unsafe { xp.get(i) };
                         unsafe { xp.set(i, new) };
                         let u2 = (new - old).length_squared() as f64;

@@ -94,7 +94,8 @@ impl Simulation {
             x_start: x.clone(),
             y: x.clone(),
             x_prev_iter: x.clone(),
-            x_this_iter: x.clone(),
+            // Only Jacobi needs it: allocated on first use.
+            x_this_iter: Vec3Soa::default(),
             rhs_fixed: Vec3Soa::zeros(n),
             diag: vec![0.0; n],
             slots: Vec::new(),
@@ -417,6 +418,7 @@ impl Simulation {
             slots: &self.slots,
             slot_offsets: &self.model.slots.particle_offsets,
             slot_index: &self.model.slots.particle_slots,
+            sweep: &self.model.sweep,
             contact_weight: &self.contacts.weight,
             contact_target: &self.contacts.target,
         }
@@ -448,6 +450,9 @@ impl Simulation {
             let t1 = Instant::now();
             let norms: SweepNorms = match method {
                 Method::Jacobi => {
+                    if self.x_this_iter.len() != self.x.len() {
+                        self.x_this_iter = self.x.clone();
+                    }
                     self.x_this_iter.copy_from(&self.x);
                     let mut x = std::mem::take(&mut self.x);
                     let n = self.global_system().jacobi(
@@ -463,8 +468,7 @@ impl Simulation {
                     // The sweep leaves x̂ in `sweep_work` and `self.x` (= xᵏ) untouched.
                     let (mut work, mut parts) =
                         (std::mem::take(&mut self.sweep_work), std::mem::take(&mut self.sweep_parts));
-                    let n =
-                        self.global_system().gauss_seidel(&self.model.colouring.groups, &self.x, &mut work, &mut parts);
+                    let n = self.global_system().gauss_seidel(&self.x, &mut work, &mut parts);
                     (self.sweep_work, self.sweep_parts) = (work, parts);
                     if method == Method::Chebyshev {
                         let omega = self.cheb.omega(k, n.update2.sqrt() as f32, &self.settings.chebyshev);

@@ -130,7 +130,6 @@ pub struct Model {
     pub pinned: Vec<bool>,
     // Derived, rebuilt when `dirty`.
     pub dirty: bool,
-    pub matrix: SparseSym,
     pub matrix32: SparseSym32,
     pub colouring: Colouring,
     pub slots: SlotLayout,
@@ -192,7 +191,6 @@ impl Model {
             attachments: Vec::new(),
             pinned: vec![false; n],
             dirty: true,
-            matrix: SparseSym::default(),
             matrix32: SparseSym32::default(),
             colouring: Colouring::default(),
             slots: SlotLayout::default(),
@@ -224,7 +222,6 @@ impl Model {
             + self.seam_hinges.memory_bytes()
             + vec_bytes(&self.attachments)
             + vec_bytes(&self.pinned)
-            + self.matrix.memory_bytes()
             + self.matrix32.memory_bytes()
             + self.colouring.memory_bytes()
             + self.slots.memory_bytes()
@@ -345,20 +342,27 @@ impl Model {
         }
     }
 
+    /// Assembles the constant matrix `L` in f64 (the reference solver's; the real-time solver
+    /// keeps only [`Model::matrix32`], which saves about 130 bytes per particle).
+    pub fn assemble_matrix(&self) -> SparseSym {
+        SparseSym::assemble(
+            self.n(),
+            &self.triangles,
+            &[&self.bending, &self.seam_pairs, &self.seam_hinges],
+            &self.attachments,
+        )
+    }
+
     /// Rebuilds the matrix, colouring and slot layout if anything changed.
     pub fn rebuild_if_dirty(&mut self, seed: u64) {
         if !self.dirty {
             return;
         }
-        let n = self.n();
-        self.matrix = SparseSym::assemble(
-            n,
-            &self.triangles,
-            &[&self.bending, &self.seam_pairs, &self.seam_hinges],
-            &self.attachments,
-        );
-        self.matrix32 = self.matrix.to_f32();
-        let mut colouring = colour_graph(&self.matrix.offsets, &self.matrix.cols, seed);
+        // The f64 matrix is not kept: only the reference solver needs it, and assembles its own.
+        let matrix = self.assemble_matrix();
+        self.matrix32 = matrix.to_f32();
+        drop(matrix);
+        let mut colouring = colour_graph(&self.matrix32.offsets, &self.matrix32.cols, seed);
         // Pinned particles are not unknowns: drop them from the sweep.
         for g in &mut colouring.groups {
             g.retain(|&i| !self.pinned[i as usize]);

@@ -60,14 +60,15 @@ impl Simulation {
             pos[old as usize] = new;
         }
         // Row `new` of the permuted matrix is free particle `free[perm[new]]`.
+        let matrix = m.assemble_matrix();
         let diag: Vec<f64> = perm
             .iter()
             .map(|&k| {
                 let i = free[k as usize] as usize;
-                m.matrix.diag[i] + m.mass[i] as f64 / (self.h_prepared as f64).powi(2) + self.contacts.weight[i] as f64
+                matrix.diag[i] + m.mass[i] as f64 / (self.h_prepared as f64).powi(2) + self.contacts.weight[i] as f64
             })
             .collect();
-        let mat = &m.matrix;
+        let mat = &matrix;
         let factor = Skyline::factor(&diag, |new| {
             let i = free[perm[new] as usize] as usize;
             mat.row(i).filter_map(|k| {

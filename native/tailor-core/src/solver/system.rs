@@ -3,9 +3,9 @@
 //! Every constraint maps positions to vectors by scalar coefficients, so `L` is an `n×n` scalar
 //! matrix shared by the x, y and z systems. The global step solves
 //! `(M/h² + L + C) x = M/h²·y + b_const + Σ w·Aᵀp` where `C` is the diagonal of this substep's
-//! contact weights. `L` is assembled once per topology change (in f64, for the reference
-//! solver) and kept in f32 rows for the real-time sweep. Its off-diagonal pattern is the graph
-//! the colouring separates.
+//! contact weights. `L` is assembled in f64 once per topology change and kept only in f32
+//! rows for the real-time sweep (the reference solver assembles its own f64 copy). Its
+//! off-diagonal pattern is the graph the colouring separates.
 
 use super::constraints::{Attachment, StencilSet, TriangleSet};
 use super::soa::vec_bytes;

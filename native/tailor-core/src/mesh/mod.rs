@@ -28,6 +28,14 @@ pub struct ClothMesh {
 }
 
 impl ClothMesh {
+    /// Heap bytes of the mesh: positions, rest shape, triangles, edges and hinges.
+    pub fn memory_bytes(&self) -> usize {
+        fn b<T>(v: &Vec<T>) -> usize {
+            v.capacity() * std::mem::size_of::<T>()
+        }
+        b(&self.positions) + b(&self.rest) + b(&self.triangles) + b(&self.topology.edges) + b(&self.topology.hinges)
+    }
+
     /// Builds and validates a mesh. `positions` are the initial 3D positions (metres), `rest`
     /// the 2D pattern coordinates (metres), `triangles` index both.
     pub fn new(positions: Vec<[f32; 3]>, rest: Vec<[f32; 2]>, triangles: Vec<[u32; 3]>) -> Result<Self> {
@@ -142,7 +150,9 @@ fn dist2(a: [f32; 2], b: [f32; 2]) -> f64 {
 mod tests {
     use super::*;
 
-    fn quad() -> (Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<[u32; 3]>) {
+    type MeshParts = (Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<[u32; 3]>);
+
+    fn quad() -> MeshParts {
         let rest = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
         let pos = rest.iter().map(|r: &[f32; 2]| [r[0], r[1], 0.0]).collect();
         (pos, rest, vec![[0, 1, 2], [0, 2, 3]])

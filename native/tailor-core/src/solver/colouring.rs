@@ -26,6 +26,12 @@ impl Colouring {
     pub fn count(&self) -> usize {
         self.groups.len()
     }
+
+    /// Heap bytes of the colours and the groups (the outer vector and each group).
+    pub fn memory_bytes(&self) -> usize {
+        use super::soa::vec_bytes;
+        vec_bytes(&self.colour) + vec_bytes(&self.groups) + self.groups.iter().map(vec_bytes).sum::<usize>()
+    }
 }
 
 /// Colours the graph given by symmetric adjacency rows (`offsets`, `adj`).

@@ -92,6 +92,12 @@ impl ContactSet {
         self.collider = vec![u32::MAX; n];
     }
 
+    /// Heap bytes of the per-particle contact arrays.
+    pub fn memory_bytes(&self) -> usize {
+        use super::soa::vec_bytes;
+        vec_bytes(&self.weight) + self.target.memory_bytes() + self.normal.memory_bytes() + vec_bytes(&self.collider)
+    }
+
     pub fn count(&self) -> usize {
         self.weight.iter().filter(|&&w| w > 0.0).count()
     }

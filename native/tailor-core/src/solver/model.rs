@@ -13,7 +13,7 @@ use super::constraints::seam::BoundaryEdges;
 use super::constraints::triangle::strain_coefficients;
 use super::constraints::{Attachment, Seam, StencilSet, TriangleSet};
 use super::settings::Fabric;
-use super::soa::Vec3Soa;
+use super::soa::{vec_bytes, Vec3Soa};
 use super::system::{SparseSym, SparseSym32};
 
 /// Where each constraint's right-hand-side contribution lands: triangles own slots `3t..3t+3`;
@@ -27,6 +27,89 @@ pub struct SlotLayout {
     pub total: usize,
     pub particle_offsets: Vec<u32>,
     pub particle_slots: Vec<u32>,
+}
+
+/// The Gauss-Seidel sweep's view of the matrix and slot rows, in sweep order: the particles of
+/// colour 0, then colour 1, and so on, each followed by its off-diagonal row and its slot list
+/// stored contiguously in that order. A colour's rows are thus one contiguous stretch of memory
+/// instead of every `colours`-th row of the particle-ordered matrix, which the hardware
+/// prefetcher streams; this matters once the model no longer fits in cache (about 100k
+/// particles). Entries keep their order within a row, so the sums are unchanged.
+#[derive(Debug, Clone, Default)]
+pub struct SweepRows {
+    /// Sweep positions of colour `c`: `group_start[c]..group_start[c + 1]`.
+    pub group_start: Vec<u32>,
+    /// Particle at each sweep position.
+    pub particle: Vec<u32>,
+    /// Off-diagonal entries of the row at sweep position `p`: `row_offsets[p]..row_offsets[p+1]`.
+    pub row_offsets: Vec<u32>,
+    pub cols: Vec<u32>,
+    pub vals: Vec<f32>,
+    /// Slots summed by the particle at sweep position `p`: `slot_offsets[p]..slot_offsets[p+1]`.
+    pub slot_offsets: Vec<u32>,
+    pub slot_index: Vec<u32>,
+}
+
+impl SweepRows {
+    fn new(matrix: &SparseSym32, colouring: &Colouring, slots: &SlotLayout) -> Self {
+        let mut r =
+            SweepRows { group_start: vec![0], row_offsets: vec![0], slot_offsets: vec![0], ..Default::default() };
+        let m = colouring.groups.iter().map(Vec::len).sum();
+        r.particle.reserve_exact(m);
+        r.row_offsets.reserve_exact(m);
+        r.slot_offsets.reserve_exact(m);
+        let nnz = colouring
+            .groups
+            .iter()
+            .flatten()
+            .map(|&i| (matrix.offsets[i as usize + 1] - matrix.offsets[i as usize]) as usize)
+            .sum();
+        let ns = colouring
+            .groups
+            .iter()
+            .flatten()
+            .map(|&i| (slots.particle_offsets[i as usize + 1] - slots.particle_offsets[i as usize]) as usize)
+            .sum();
+        r.cols.reserve_exact(nnz);
+        r.vals.reserve_exact(nnz);
+        r.slot_index.reserve_exact(ns);
+        for g in &colouring.groups {
+            for &i in g {
+                let i = i as usize;
+                let (a, b) = (matrix.offsets[i] as usize, matrix.offsets[i + 1] as usize);
+                r.cols.extend_from_slice(&matrix.cols[a..b]);
+                r.vals.extend_from_slice(&matrix.vals[a..b]);
+                let (a, b) = (slots.particle_offsets[i] as usize, slots.particle_offsets[i + 1] as usize);
+                r.slot_index.extend_from_slice(&slots.particle_slots[a..b]);
+                r.particle.push(i as u32);
+                r.row_offsets.push(r.cols.len() as u32);
+                r.slot_offsets.push(r.slot_index.len() as u32);
+            }
+            r.group_start.push(r.particle.len() as u32);
+        }
+        r
+    }
+
+    /// Heap bytes of the rows.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.group_start)
+            + vec_bytes(&self.particle)
+            + vec_bytes(&self.row_offsets)
+            + vec_bytes(&self.cols)
+            + vec_bytes(&self.vals)
+            + vec_bytes(&self.slot_offsets)
+            + vec_bytes(&self.slot_index)
+    }
+}
+
+impl SlotLayout {
+    /// Heap bytes of the layout.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.curved)
+            + vec_bytes(&self.curved_base)
+            + vec_bytes(&self.particle_offsets)
+            + vec_bytes(&self.particle_slots)
+    }
 }
 
 /// Everything about the system that is not the moving state.
@@ -47,10 +130,10 @@ pub struct Model {
     pub pinned: Vec<bool>,
     // Derived, rebuilt when `dirty`.
     pub dirty: bool,
-    pub matrix: SparseSym,
     pub matrix32: SparseSym32,
     pub colouring: Colouring,
     pub slots: SlotLayout,
+    pub sweep: SweepRows,
     pub b_const: Vec3Soa,
 }
 
@@ -85,6 +168,10 @@ impl Model {
                 bending.push(&terms, (3.0 * fabric.bend as f64 / area) as f32, 0.0);
             }
         }
+        // Built by pushing: drop the growth slack (up to half the capacity) kept for the
+        // lifetime of the simulation.
+        triangles.shrink_to_fit();
+        bending.shrink_to_fit();
         let base_mass: Vec<f32> = base_mass.into_iter().map(|m| m as f32).collect();
         for (i, &m) in base_mass.iter().enumerate() {
             if !(m > 0.0 && m.is_finite()) {
@@ -104,10 +191,10 @@ impl Model {
             attachments: Vec::new(),
             pinned: vec![false; n],
             dirty: true,
-            matrix: SparseSym::default(),
             matrix32: SparseSym32::default(),
             colouring: Colouring::default(),
             slots: SlotLayout::default(),
+            sweep: SweepRows::default(),
             b_const: Vec3Soa::zeros(n),
             mesh,
             fabric,
@@ -116,6 +203,30 @@ impl Model {
 
     pub fn n(&self) -> usize {
         self.mass.len()
+    }
+
+    /// The heap size of the model in bytes: the sum of the capacities of every `Vec` it owns
+    /// (mesh, masses, constraints, seams, both matrices, colouring, slot layout, `b_const`).
+    /// Fixed-size fields and allocator overhead are not counted.
+    pub fn memory_bytes(&self) -> usize {
+        let seams: usize =
+            vec_bytes(&self.seams) + self.seams.iter().map(|s| vec_bytes(&s.pairs) + s.name.capacity()).sum::<usize>();
+        self.mesh.memory_bytes()
+            + vec_bytes(&self.base_mass)
+            + vec_bytes(&self.mass_scale)
+            + vec_bytes(&self.mass)
+            + self.triangles.memory_bytes()
+            + self.bending.memory_bytes()
+            + seams
+            + self.seam_pairs.memory_bytes()
+            + self.seam_hinges.memory_bytes()
+            + vec_bytes(&self.attachments)
+            + vec_bytes(&self.pinned)
+            + self.matrix32.memory_bytes()
+            + self.colouring.memory_bytes()
+            + self.slots.memory_bytes()
+            + self.sweep.memory_bytes()
+            + self.b_const.memory_bytes()
     }
 
     /// Scales each particle's mass (painted mass maps); scales must be positive and finite.
@@ -231,20 +342,27 @@ impl Model {
         }
     }
 
+    /// Assembles the constant matrix `L` in f64 (the reference solver's; the real-time solver
+    /// keeps only [`Model::matrix32`], which saves about 130 bytes per particle).
+    pub fn assemble_matrix(&self) -> SparseSym {
+        SparseSym::assemble(
+            self.n(),
+            &self.triangles,
+            &[&self.bending, &self.seam_pairs, &self.seam_hinges],
+            &self.attachments,
+        )
+    }
+
     /// Rebuilds the matrix, colouring and slot layout if anything changed.
     pub fn rebuild_if_dirty(&mut self, seed: u64) {
         if !self.dirty {
             return;
         }
-        let n = self.n();
-        self.matrix = SparseSym::assemble(
-            n,
-            &self.triangles,
-            &[&self.bending, &self.seam_pairs, &self.seam_hinges],
-            &self.attachments,
-        );
-        self.matrix32 = self.matrix.to_f32();
-        let mut colouring = colour_graph(&self.matrix.offsets, &self.matrix.cols, seed);
+        // The f64 matrix is not kept: only the reference solver needs it, and assembles its own.
+        let matrix = self.assemble_matrix();
+        self.matrix32 = matrix.to_f32();
+        drop(matrix);
+        let mut colouring = colour_graph(&self.matrix32.offsets, &self.matrix32.cols, seed);
         // Pinned particles are not unknowns: drop them from the sweep.
         for g in &mut colouring.groups {
             g.retain(|&i| !self.pinned[i as usize]);
@@ -252,6 +370,7 @@ impl Model {
         colouring.groups.retain(|g| !g.is_empty());
         self.colouring = colouring;
         self.slots = self.slot_layout();
+        self.sweep = SweepRows::new(&self.matrix32, &self.colouring, &self.slots);
         self.update_b_const();
         self.dirty = false;
     }

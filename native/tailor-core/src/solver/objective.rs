@@ -61,7 +61,7 @@ impl Simulation {
             let xi = x.get(i);
             let mut r = self.rhs_fixed.get(i);
             for s in m.slots.particle_offsets[i]..m.slots.particle_offsets[i + 1] {
-                r += slots[m.slots.particle_slots[s as usize] as usize];
+                r += Vec3::from(slots[m.slots.particle_slots[s as usize] as usize]);
             }
             for d in 0..3 {
                 g[d] = self.diag[i] as f64 * xi[d] as f64 - r[d] as f64;

@@ -60,14 +60,15 @@ impl Simulation {
             pos[old as usize] = new;
         }
         // Row `new` of the permuted matrix is free particle `free[perm[new]]`.
+        let matrix = m.assemble_matrix();
         let diag: Vec<f64> = perm
             .iter()
             .map(|&k| {
                 let i = free[k as usize] as usize;
-                m.matrix.diag[i] + m.mass[i] as f64 / (self.h_prepared as f64).powi(2) + self.contacts.weight[i] as f64
+                matrix.diag[i] + m.mass[i] as f64 / (self.h_prepared as f64).powi(2) + self.contacts.weight[i] as f64
             })
             .collect();
-        let mat = &m.matrix;
+        let mat = &matrix;
         let factor = Skyline::factor(&diag, |new| {
             let i = free[perm[new] as usize] as usize;
             mat.row(i).filter_map(|k| {
@@ -90,7 +91,7 @@ impl Simulation {
         let mut slots = std::mem::take(&mut self.slots);
         let mut rhs = vec![0.0f64; nf];
         // The local/global map G(x) = (M/h² + L + C)⁻¹·b(x).
-        let mut global = |this: &Self, x32: &Vec3Soa, slots: &mut Vec<glam::Vec3>| -> Vec<f64> {
+        let mut global = |this: &Self, x32: &Vec3Soa, slots: &mut Vec<glam::Vec3A>| -> Vec<f64> {
             project_all(&this.model, x32, slots);
             let m = &this.model;
             let mut out = vec![0.0f64; 3 * nf];

@@ -14,7 +14,7 @@
 
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use crate::error::{Result, TailorError};
 use crate::mesh::{check_finite3, ClothMesh};
@@ -23,7 +23,7 @@ use super::chebyshev::Chebyshev;
 use super::constraints::{Attachment, Seam};
 use super::contacts::{coulomb, resolve_penetrations, ContactSet, ImplicitCollider};
 use super::damping::{decay, Ramp};
-use super::global::{extrapolate, GlobalSystem, SweepNorms};
+use super::global::{unpack, unpack_extrapolated, GlobalSystem, SweepNorms};
 use super::local::project_all;
 use super::model::Model;
 use super::settings::{Fabric, Method, SolverSettings};
@@ -47,7 +47,10 @@ pub struct Simulation {
     x_this_iter: Vec3Soa,
     pub(crate) rhs_fixed: Vec3Soa,
     pub(crate) diag: Vec<f32>,
-    pub(crate) slots: Vec<Vec3>,
+    pub(crate) slots: Vec<Vec3A>,
+    /// Scratch of the Gauss-Seidel sweep: interleaved positions and per-chunk sums.
+    sweep_work: Vec<Vec3A>,
+    sweep_parts: Vec<SweepNorms>,
     pub(crate) contacts: ContactSet,
     pin_target: Vec3Soa,
     ramp: Ramp,
@@ -91,10 +94,13 @@ impl Simulation {
             x_start: x.clone(),
             y: x.clone(),
             x_prev_iter: x.clone(),
-            x_this_iter: x.clone(),
+            // Only Jacobi needs it: allocated on first use.
+            x_this_iter: Vec3Soa::default(),
             rhs_fixed: Vec3Soa::zeros(n),
             diag: vec![0.0; n],
             slots: Vec::new(),
+            sweep_work: Vec::new(),
+            sweep_parts: Vec::new(),
             contacts,
             pin_target: x.clone(),
             x,
@@ -126,6 +132,28 @@ impl Simulation {
     }
     pub fn time(&self) -> f64 {
         self.time
+    }
+
+    /// The heap size of the solver's whole state in bytes: the [`Model`] (see
+    /// [`Model::memory_bytes`]) plus every per-particle array of the moving state and the
+    /// scratch buffers (positions, velocities, predictions, iterates, right-hand side, diagonal,
+    /// slots, contacts, pin targets, the free list, colliders). Counts `Vec` capacities, not
+    /// allocator overhead or the fixed-size struct itself.
+    pub fn memory_bytes(&self) -> usize {
+        use super::soa::vec_bytes;
+        self.model.memory_bytes()
+            + vec_bytes(&self.colliders)
+            + [&self.x, &self.v, &self.x_start, &self.y, &self.x_prev_iter, &self.x_this_iter, &self.rhs_fixed]
+                .iter()
+                .map(|s| s.memory_bytes())
+                .sum::<usize>()
+            + vec_bytes(&self.diag)
+            + vec_bytes(&self.slots)
+            + vec_bytes(&self.sweep_work)
+            + vec_bytes(&self.sweep_parts)
+            + self.contacts.memory_bytes()
+            + self.pin_target.memory_bytes()
+            + vec_bytes(&self.free)
     }
 
     /// Replaces the settings (validated first; nothing changes on error).
@@ -348,7 +376,7 @@ impl Simulation {
             let inv_h2 = 1.0 / (h * h);
             let m = &self.model;
             self.diag = (0..m.n()).map(|i| m.mass[i] * inv_h2 + m.matrix32.diag[i]).collect();
-            self.slots = vec![Vec3::ZERO; m.slots.total];
+            self.slots = vec![Vec3A::ZERO; m.slots.total];
             self.free = m.colouring.groups.iter().flatten().copied().collect();
             self.free.sort_unstable();
             self.h_prepared = h;
@@ -390,6 +418,7 @@ impl Simulation {
             slots: &self.slots,
             slot_offsets: &self.model.slots.particle_offsets,
             slot_index: &self.model.slots.particle_slots,
+            sweep: &self.model.sweep,
             contact_weight: &self.contacts.weight,
             contact_target: &self.contacts.target,
         }
@@ -421,6 +450,9 @@ impl Simulation {
             let t1 = Instant::now();
             let norms: SweepNorms = match method {
                 Method::Jacobi => {
+                    if self.x_this_iter.len() != self.x.len() {
+                        self.x_this_iter = self.x.clone();
+                    }
                     self.x_this_iter.copy_from(&self.x);
                     let mut x = std::mem::take(&mut self.x);
                     let n = self.global_system().jacobi(
@@ -433,17 +465,24 @@ impl Simulation {
                     n
                 }
                 Method::GaussSeidel | Method::Chebyshev => {
-                    self.x_this_iter.copy_from(&self.x);
-                    let mut x = std::mem::take(&mut self.x);
-                    let n = self.global_system().gauss_seidel(&self.model.colouring.groups, &mut x);
-                    self.x = x;
+                    // The sweep leaves x̂ in `sweep_work` and `self.x` (= xᵏ) untouched.
+                    let (mut work, mut parts) =
+                        (std::mem::take(&mut self.sweep_work), std::mem::take(&mut self.sweep_parts));
+                    let n = self.global_system().gauss_seidel(&self.x, &mut work, &mut parts);
+                    (self.sweep_work, self.sweep_parts) = (work, parts);
                     if method == Method::Chebyshev {
                         let omega = self.cheb.omega(k, n.update2.sqrt() as f32, &self.settings.chebyshev);
                         out.rho = self.cheb.rho(&self.settings.chebyshev);
+                        // xᵏ⁺¹ = ω·(x̂ − xᵏ⁻¹) + xᵏ⁻¹ (just x̂ when ω = 1) overwrites xᵏ⁻¹; the swap
+                        // then makes it the iterate and keeps xᵏ as the next "previous".
                         if omega != 1.0 {
-                            extrapolate(&mut self.x, &self.x_prev_iter, omega);
+                            unpack_extrapolated(&self.sweep_work, &mut self.x_prev_iter, omega);
+                        } else {
+                            unpack(&self.sweep_work, &mut self.x_prev_iter);
                         }
-                        std::mem::swap(&mut self.x_prev_iter, &mut self.x_this_iter);
+                        std::mem::swap(&mut self.x, &mut self.x_prev_iter);
+                    } else {
+                        unpack(&self.sweep_work, &mut self.x);
                     }
                     n
                 }

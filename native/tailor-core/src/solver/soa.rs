@@ -5,6 +5,12 @@
 
 use glam::Vec3;
 
+/// Heap bytes a `Vec` holds (its capacity, not its length), for the memory reports.
+#[inline]
+pub fn vec_bytes<T>(v: &Vec<T>) -> usize {
+    v.capacity() * std::mem::size_of::<T>()
+}
+
 /// Three parallel `f32` arrays, one per coordinate.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Vec3Soa {
@@ -50,6 +56,11 @@ impl Vec3Soa {
 
     pub fn len(&self) -> usize {
         self.x.len()
+    }
+
+    /// Heap bytes of the three arrays.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.x) + vec_bytes(&self.y) + vec_bytes(&self.z)
     }
 
     pub fn is_empty(&self) -> bool {
@@ -99,12 +110,6 @@ unsafe impl Sync for SoaPtr {}
 impl SoaPtr {
     pub fn new(v: &mut Vec3Soa) -> Self {
         Self { x: v.x.as_mut_ptr(), y: v.y.as_mut_ptr(), z: v.z.as_mut_ptr(), len: v.len() }
-    }
-
-    #[inline(always)]
-    pub unsafe fn get(&self, i: usize) -> Vec3 {
-        debug_assert!(i < self.len);
-        Vec3::new(*self.x.add(i), *self.y.add(i), *self.z.add(i))
     }
 
     #[inline(always)]

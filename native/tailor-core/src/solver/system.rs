@@ -3,11 +3,12 @@
 //! Every constraint maps positions to vectors by scalar coefficients, so `L` is an `n×n` scalar
 //! matrix shared by the x, y and z systems. The global step solves
 //! `(M/h² + L + C) x = M/h²·y + b_const + Σ w·Aᵀp` where `C` is the diagonal of this substep's
-//! contact weights. `L` is assembled once per topology change (in f64, for the reference
-//! solver) and kept in f32 rows for the real-time sweep. Its off-diagonal pattern is the graph
-//! the colouring separates.
+//! contact weights. `L` is assembled in f64 once per topology change and kept only in f32
+//! rows for the real-time sweep (the reference solver assembles its own f64 copy). Its
+//! off-diagonal pattern is the graph the colouring separates.
 
 use super::constraints::{Attachment, StencilSet, TriangleSet};
+use super::soa::vec_bytes;
 
 /// Symmetric sparse matrix: diagonal plus off-diagonal entries by row (both triangles stored).
 #[derive(Debug, Clone, Default)]
@@ -27,9 +28,21 @@ pub struct SparseSym32 {
     pub vals: Vec<f32>,
 }
 
+impl SparseSym32 {
+    /// Heap bytes of the rows.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.diag) + vec_bytes(&self.offsets) + vec_bytes(&self.cols) + vec_bytes(&self.vals)
+    }
+}
+
 impl SparseSym {
     pub fn n(&self) -> usize {
         self.diag.len()
+    }
+
+    /// Heap bytes of the rows.
+    pub fn memory_bytes(&self) -> usize {
+        vec_bytes(&self.diag) + vec_bytes(&self.offsets) + vec_bytes(&self.cols) + vec_bytes(&self.vals)
     }
 
     pub fn row(&self, i: usize) -> std::ops::Range<usize> {
@@ -93,6 +106,10 @@ impl SparseSym {
         for i in 0..n {
             offsets[i + 1] += offsets[i];
         }
+        // The reservation above counts duplicate triplets (entries shared by neighbouring
+        // constraints), about twice the final size: give the excess back.
+        cols.shrink_to_fit();
+        vals.shrink_to_fit();
         Self { diag, offsets, cols, vals }
     }
 

@@ -42,6 +42,25 @@ impl StencilSet {
         self.weights.is_empty()
     }
 
+    /// Releases unused capacity (after building by [`StencilSet::push`]).
+    pub fn shrink_to_fit(&mut self) {
+        self.offsets.shrink_to_fit();
+        self.verts.shrink_to_fit();
+        self.coefs.shrink_to_fit();
+        self.weights.shrink_to_fit();
+        self.rest.shrink_to_fit();
+    }
+
+    /// Heap bytes of the compressed rows.
+    pub fn memory_bytes(&self) -> usize {
+        use crate::solver::soa::vec_bytes;
+        vec_bytes(&self.offsets)
+            + vec_bytes(&self.verts)
+            + vec_bytes(&self.coefs)
+            + vec_bytes(&self.weights)
+            + vec_bytes(&self.rest)
+    }
+
     /// Appends a constraint; terms on the same vertex are merged.
     pub fn push(&mut self, terms: &[(u32, f32)], weight: f32, rest: f32) {
         let start = self.verts.len();

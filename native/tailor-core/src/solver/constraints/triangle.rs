@@ -36,6 +36,20 @@ impl TriangleSet {
     pub fn is_empty(&self) -> bool {
         self.verts.is_empty()
     }
+
+    /// Releases unused capacity (after building by pushing).
+    pub fn shrink_to_fit(&mut self) {
+        self.verts.shrink_to_fit();
+        self.g.shrink_to_fit();
+        self.w_stretch.shrink_to_fit();
+        self.w_shear.shrink_to_fit();
+    }
+
+    /// Heap bytes of the per-triangle arrays.
+    pub fn memory_bytes(&self) -> usize {
+        use crate::solver::soa::vec_bytes;
+        vec_bytes(&self.verts) + vec_bytes(&self.g) + vec_bytes(&self.w_stretch) + vec_bytes(&self.w_shear)
+    }
 }
 
 /// The F-coefficients `g` of a rest triangle (see the module doc). `None` if degenerate.

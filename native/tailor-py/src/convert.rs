@@ -66,8 +66,12 @@ fn ints(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<i64>, Vec<usize>)> 
 
 fn check_index(v: i64, len: Option<usize>, name: &str, pos: String) -> PyResult<u32> {
     match len {
-        Some(n) if v < 0 || v as usize >= n => Err(to_py(TailorError::index(format!("{name} {pos}"), v, n, "vertices"))),
-        None if v < 0 || v > u32::MAX as i64 => Err(to_py(TailorError::index(format!("{name} {pos}"), v, u32::MAX as usize, "allowed"))),
+        Some(n) if v < 0 || v as usize >= n => {
+            Err(to_py(TailorError::index(format!("{name} {pos}"), v, n, "vertices")))
+        }
+        None if v < 0 || v > u32::MAX as i64 => {
+            Err(to_py(TailorError::index(format!("{name} {pos}"), v, u32::MAX as usize, "allowed")))
+        }
         _ => Ok(v as u32),
     }
 }

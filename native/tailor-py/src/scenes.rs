@@ -13,7 +13,15 @@ use crate::errors::to_py;
 /// into a tube. Returns positions, rest, triangles and the seams as (name, a, b) index arrays.
 #[pyfunction]
 #[pyo3(signature = (width=0.5, height=0.6, edge=0.02, gap=0.1, bottom=0.0, seam_stiffness=1000.0))]
-pub fn sewn_tube<'py>(py: Python<'py>, width: f32, height: f32, edge: f32, gap: f32, bottom: f32, seam_stiffness: f32) -> PyResult<Bound<'py, PyDict>> {
+pub fn sewn_tube<'py>(
+    py: Python<'py>,
+    width: f32,
+    height: f32,
+    edge: f32,
+    gap: f32,
+    bottom: f32,
+    seam_stiffness: f32,
+) -> PyResult<Bound<'py, PyDict>> {
     let tube = scenes::sewn_tube(width, height, edge, gap, bottom, seam_stiffness).map_err(to_py)?;
     let d = PyDict::new(py);
     let m = &tube.mesh;
@@ -25,7 +33,13 @@ pub fn sewn_tube<'py>(py: Python<'py>, width: f32, height: f32, edge: f32, gap: 
     let seams: Vec<(String, Vec<u32>, Vec<u32>)> = tube
         .seams
         .iter()
-        .map(|s| (s.name.clone(), s.pairs.iter().map(|p| p.0.verts[0]).collect(), s.pairs.iter().map(|p| p.1.verts[0]).collect()))
+        .map(|s| {
+            (
+                s.name.clone(),
+                s.pairs.iter().map(|p| p.0.verts[0]).collect(),
+                s.pairs.iter().map(|p| p.1.verts[0]).collect(),
+            )
+        })
         .collect();
     d.set_item("seams", seams)?;
     Ok(d)

@@ -144,11 +144,9 @@ pub fn parse_method(name: &str) -> PyResult<Method> {
         "chebyshev" => Ok(Method::Chebyshev),
         "gauss_seidel" => Ok(Method::GaussSeidel),
         "jacobi" => Ok(Method::Jacobi),
-        other => Err(to_py(TailorError::setting(
-            "method",
-            other,
-            "expected \"chebyshev\", \"gauss_seidel\" or \"jacobi\"",
-        ))),
+        other => {
+            Err(to_py(TailorError::setting("method", other, "expected \"chebyshev\", \"gauss_seidel\" or \"jacobi\"")))
+        }
     }
 }
 

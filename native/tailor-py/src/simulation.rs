@@ -57,8 +57,12 @@ impl Simulation {
         fabric: Option<Fabric>,
         settings: Option<Settings>,
     ) -> PyResult<Self> {
-        let mesh = ClothMesh::new(points3(positions, "positions")?, points2(rest, "rest")?, triangles(triangles_, "triangles")?)
-            .map_err(to_py)?;
+        let mesh = ClothMesh::new(
+            points3(positions, "positions")?,
+            points2(rest, "rest")?,
+            triangles(triangles_, "triangles")?,
+        )
+        .map_err(to_py)?;
         let fabric = fabric.as_ref().map(core::Fabric::from).unwrap_or_default();
         let settings = match settings {
             Some(s) => s.to_core()?,
@@ -138,7 +142,14 @@ impl Simulation {
     /// Sews vertex path `a` to vertex path `b` one-to-one (equal counts). Returns the number
     /// of hinges created across the sewn edges.
     #[pyo3(signature = (a, b, stiffness=1000.0, bend_stiffness=1e-5, name="seam"))]
-    fn add_seam(&mut self, a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>, stiffness: f32, bend_stiffness: f32, name: &str) -> PyResult<usize> {
+    fn add_seam(
+        &mut self,
+        a: &Bound<'_, PyAny>,
+        b: &Bound<'_, PyAny>,
+        stiffness: f32,
+        bend_stiffness: f32,
+        name: &str,
+    ) -> PyResult<usize> {
         let n = self.inner.num_particles();
         let (a, b) = (indices(a, "seam side A", n)?, indices(b, "seam side B", n)?);
         let seam = Seam::one_to_one(name, &a, &b, stiffness, bend_stiffness).map_err(to_py)?;
@@ -165,7 +176,10 @@ impl Simulation {
             let verts = indices(&v.call_method1("reshape", (-1,))?, label, n)?;
             let weights = floats(&w.call_method1("reshape", (-1,))?, label)?;
             if verts.len() != weights.len() || verts.len() % 2 != 0 {
-                return Err(to_py(tailor_core::TailorError::shape(label, "vertices and weights must both have shape (k, 2)")));
+                return Err(to_py(tailor_core::TailorError::shape(
+                    label,
+                    "vertices and weights must both have shape (k, 2)",
+                )));
             }
             Ok(verts
                 .chunks_exact(2)
@@ -177,7 +191,11 @@ impl Simulation {
         if a.len() != b.len() {
             return Err(to_py(tailor_core::TailorError::InvalidSeam {
                 seam: name.into(),
-                reason: format!("{} points on side A and {} on side B: weighted seams pair row by row", a.len(), b.len()),
+                reason: format!(
+                    "{} points on side A and {} on side B: weighted seams pair row by row",
+                    a.len(),
+                    b.len()
+                ),
             }));
         }
         let seam = Seam { name: name.into(), pairs: a.into_iter().zip(b).collect(), stiffness, bend_stiffness };
@@ -198,11 +216,19 @@ impl Simulation {
     }
 
     /// Soft attachments of particles to targets (k, 3) with a weight (N/m).
-    fn add_attachments(&mut self, particles: &Bound<'_, PyAny>, targets: &Bound<'_, PyAny>, weight: f32) -> PyResult<()> {
+    fn add_attachments(
+        &mut self,
+        particles: &Bound<'_, PyAny>,
+        targets: &Bound<'_, PyAny>,
+        weight: f32,
+    ) -> PyResult<()> {
         let p = indices(particles, "attachments", self.inner.num_particles())?;
         let t = points3(targets, "attachment targets")?;
         if t.len() != p.len() {
-            return Err(to_py(tailor_core::TailorError::shape("attachments", format!("{} targets for {} particles", t.len(), p.len()))));
+            return Err(to_py(tailor_core::TailorError::shape(
+                "attachments",
+                format!("{} targets for {} particles", t.len(), p.len()),
+            )));
         }
         for (&particle, &target) in p.iter().zip(&t) {
             self.inner.add_attachment(Attachment { particle, target, weight }).map_err(to_py)?;
@@ -215,17 +241,36 @@ impl Simulation {
     }
 
     #[pyo3(signature = (center, radius, static_friction=0.5, kinetic_friction=0.3))]
-    fn add_sphere_collider(&mut self, center: [f32; 3], radius: f32, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+    fn add_sphere_collider(
+        &mut self,
+        center: [f32; 3],
+        radius: f32,
+        static_friction: f32,
+        kinetic_friction: f32,
+    ) -> PyResult<()> {
         self.add_collider(Shape::Sphere { center, radius }, static_friction, kinetic_friction)
     }
 
     #[pyo3(signature = (point, normal, static_friction=0.5, kinetic_friction=0.3))]
-    fn add_plane_collider(&mut self, point: [f32; 3], normal: [f32; 3], static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+    fn add_plane_collider(
+        &mut self,
+        point: [f32; 3],
+        normal: [f32; 3],
+        static_friction: f32,
+        kinetic_friction: f32,
+    ) -> PyResult<()> {
         self.add_collider(Shape::Plane { point, normal }, static_friction, kinetic_friction)
     }
 
     #[pyo3(signature = (a, b, radius, static_friction=0.5, kinetic_friction=0.3))]
-    fn add_capsule_collider(&mut self, a: [f32; 3], b: [f32; 3], radius: f32, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+    fn add_capsule_collider(
+        &mut self,
+        a: [f32; 3],
+        b: [f32; 3],
+        radius: f32,
+        static_friction: f32,
+        kinetic_friction: f32,
+    ) -> PyResult<()> {
         self.add_collider(Shape::Capsule { a, b, radius }, static_friction, kinetic_friction)
     }
 
@@ -291,7 +336,11 @@ impl Simulation {
     }
 
     fn __repr__(&self) -> String {
-        format!("Simulation({} particles, {} triangles)", self.inner.num_particles(), self.inner.model().mesh.num_triangles())
+        format!(
+            "Simulation({} particles, {} triangles)",
+            self.inner.num_particles(),
+            self.inner.model().mesh.num_triangles()
+        )
     }
 }
 

@@ -1,0 +1,185 @@
+//! Cloth-cloth collisions: a sphere of radius `r` per particle, tested pairwise after each
+//! solver iteration (Nylén et al. 2020, section 6, after Macklin et al. 2014).
+//!
+//! Pairs come from [`SelfCollision::find_pairs`] (same bucket and `cell_id`, cell side the mean
+//! rest edge, at least `2r`). Each overlapping pair is pushed apart along the line of centres
+//! by the overlap `2r − d`, split by inverse mass (pinned particles do not move), and friction
+//! acts at the position level (Macklin et al. 2014, Eq. 24): the pair's relative tangential
+//! displacement over the substep is removed when it is under `μs·overlap`, else shortened by
+//! `μk·overlap`. Corrections of one pass are accumulated and averaged per particle (a Jacobi
+//! pass with constraint averaging), so the result does not depend on pair order or threads.
+//!
+//! Pairs never repel when their particles share a triangle (hence an edge), when they are
+//! sewn together, or when one is a triangle neighbour of the other's sewn partner (once a seam
+//! closes, the two pieces' triangles meet there as if welded); nor when their collision levels
+//! do not collide.
+
+use glam::Vec3;
+
+use super::levels::levels_collide;
+use crate::collision::self_collision::{ExclusionSet, SelfCollision};
+use crate::error::{Result, TailorError};
+use crate::solver::model::Model;
+use crate::solver::soa::Vec3Soa;
+
+/// Self-collision settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfCollisionSettings {
+    pub enabled: bool,
+    /// Sphere radius, metres; `None` = half the mean rest edge length.
+    pub radius: Option<f32>,
+    /// Friction between cloth particles (when no per-particle coefficients are set).
+    pub static_friction: f32,
+    pub kinetic_friction: f32,
+}
+
+impl Default for SelfCollisionSettings {
+    fn default() -> Self {
+        Self { enabled: true, radius: None, static_friction: 0.3, kinetic_friction: 0.2 }
+    }
+}
+
+impl SelfCollisionSettings {
+    pub fn validate(&self) -> Result<()> {
+        if let Some(r) = self.radius {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(TailorError::setting("self_collision.radius", r, "must be positive and finite"));
+            }
+        }
+        for (name, v) in [
+            ("self_collision.static_friction", self.static_friction),
+            ("self_collision.kinetic_friction", self.kinetic_friction),
+        ] {
+            crate::solver::settings::non_negative(name, v)?;
+        }
+        Ok(())
+    }
+}
+
+#[derive(Debug, Default)]
+pub(crate) struct SelfCollide {
+    finder: SelfCollision,
+    exclusions: Option<ExclusionSet>,
+    /// Seam count the exclusions were built for.
+    built_seams: usize,
+    delta: Vec<Vec3>,
+    count: Vec<u32>,
+    pub last_pairs: usize,
+}
+
+/// Vertices sewn to each vertex (every vertex of a seam point with non-zero weight is sewn to
+/// every such vertex of the other side).
+fn seam_partners(model: &Model) -> Vec<Vec<u32>> {
+    let mut partners = vec![Vec::new(); model.n()];
+    for seam in &model.seams {
+        for (a, b) in &seam.pairs {
+            for (i, &va) in a.verts.iter().enumerate() {
+                for (j, &vb) in b.verts.iter().enumerate() {
+                    if a.weights[i] > 0.0 && b.weights[j] > 0.0 && va != vb {
+                        partners[va as usize].push(vb);
+                        partners[vb as usize].push(va);
+                    }
+                }
+            }
+        }
+    }
+    partners
+}
+
+fn build_exclusions(model: &Model) -> Result<ExclusionSet> {
+    let partners = seam_partners(model);
+    let mut pairs: Vec<[u32; 2]> = Vec::new();
+    for &[a, b, c] in model.mesh.triangles() {
+        for (u, w) in [(a, b), (b, c), (c, a)] {
+            pairs.push([u, w]);
+            // A triangle neighbour of a sewn partner: welded neighbours once the seam closes.
+            for &pu in &partners[u as usize] {
+                pairs.push([pu, w]);
+            }
+            for &pw in &partners[w as usize] {
+                pairs.push([u, pw]);
+            }
+        }
+    }
+    for (v, ps) in partners.iter().enumerate() {
+        for &p in ps {
+            pairs.push([v as u32, p]);
+        }
+    }
+    ExclusionSet::from_pairs(model.n(), pairs)
+}
+
+/// Inputs of one pass.
+pub(crate) struct PassInput<'a> {
+    pub model: &'a Model,
+    pub levels: &'a [i32],
+    pub x_start: &'a Vec3Soa,
+    pub radius: f32,
+    pub cell: f32,
+    pub friction: &'a dyn Fn(usize) -> (f32, f32),
+}
+
+impl SelfCollide {
+    /// One pass of pair corrections on `x`.
+    pub fn pass(&mut self, inp: &PassInput<'_>, x: &mut Vec3Soa) {
+        let model = inp.model;
+        if self.exclusions.is_none() || self.built_seams != model.seams.len() {
+            // Indices were validated when the mesh and seams were built.
+            self.exclusions = build_exclusions(model).ok();
+            self.built_seams = model.seams.len();
+        }
+        let Some(ex) = self.exclusions.as_ref() else { return };
+        let levels = inp.levels;
+        let exclude = |a: u32, b: u32| ex.contains(a, b) || !levels_collide(levels[a as usize], levels[b as usize]);
+        let Ok(pairs) = self.finder.find_pairs(&x.x, &x.y, &x.z, inp.radius, inp.cell, exclude) else { return };
+        self.last_pairs = pairs.len();
+        if pairs.is_empty() {
+            return;
+        }
+        let n = x.len();
+        self.delta.clear();
+        self.delta.resize(n, Vec3::ZERO);
+        self.count.clear();
+        self.count.resize(n, 0);
+        let two_r = 2.0 * inp.radius;
+        for &[i, j] in pairs {
+            let (i, j) = (i as usize, j as usize);
+            let wi = if model.pinned[i] { 0.0 } else { 1.0 / model.mass[i] };
+            let wj = if model.pinned[j] { 0.0 } else { 1.0 / model.mass[j] };
+            let w = wi + wj;
+            if w <= 0.0 {
+                continue;
+            }
+            let d = x.get(i) - x.get(j);
+            let len = d.length();
+            // Coincident particles: separate along z, the usual layering direction.
+            let nrm = if len > 1e-9 { d / len } else { Vec3::Z };
+            let overlap = two_r - len;
+            let mut corr = nrm * overlap;
+            // Position-level friction on the relative tangential motion of the substep.
+            let rel = (x.get(i) - inp.x_start.get(i)) - (x.get(j) - inp.x_start.get(j));
+            let rel_t = rel - nrm * rel.dot(nrm);
+            let lt = rel_t.length();
+            let (si, ki) = (inp.friction)(i);
+            let (sj, kj) = (inp.friction)(j);
+            let (mu_s, mu_k) = (0.5 * (si + sj), 0.5 * (ki + kj));
+            if lt > 0.0 {
+                corr -= if lt <= mu_s * overlap { rel_t } else { rel_t * (mu_k * overlap / lt).min(1.0) };
+            }
+            self.delta[i] += corr * (wi / w);
+            self.delta[j] -= corr * (wj / w);
+            self.count[i] += 1;
+            self.count[j] += 1;
+        }
+        for i in 0..n {
+            if self.count[i] > 0 {
+                x.set(i, x.get(i) + self.delta[i] / self.count[i] as f32);
+            }
+        }
+    }
+
+    /// Forgets the exclusions (the mesh or its seams changed).
+    pub fn invalidate(&mut self) {
+        self.exclusions = None;
+    }
+}

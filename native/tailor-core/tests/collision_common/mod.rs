@@ -7,8 +7,11 @@ use tailor_core::mesh::ClothMesh;
 use tailor_core::scenes::rectangle;
 use tailor_core::solver::{Fabric, Simulation, SolverSettings};
 
+/// Positions, rest shape and triangles of a cloth.
+pub type Grid = (Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<[u32; 3]>);
+
 /// A horizontal `w × w` cloth of `n × n` cells centred at `(cx, cy)`, height `z`.
-pub fn cloth_grid(w: f32, n: usize, cx: f32, cy: f32, z: f32) -> (Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<[u32; 3]>) {
+pub fn cloth_grid(w: f32, n: usize, cx: f32, cy: f32, z: f32) -> Grid {
     let (rest, tris) = rectangle(w, w, n, n);
     let pos = rest.iter().map(|r| [r[0] - 0.5 * w + cx, r[1] - 0.5 * w + cy, z]).collect();
     (pos, rest, tris)

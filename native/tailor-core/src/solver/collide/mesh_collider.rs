@@ -19,7 +19,7 @@ use glam::Vec3;
 
 use super::levels::{levels_collide, triangle_levels_from_vertices};
 use crate::collision::collider_hash::{keeps_cell, InsertionRule};
-use crate::collision::geometry::{particle_vs_cell, Contact};
+use crate::collision::geometry::{closest_point_on_triangle, triangle_normal, Contact};
 use crate::collision::hash::{cell_of, Cell, SpatialHash};
 use crate::error::{Result, TailorError};
 use crate::mesh::check_finite3;
@@ -75,6 +75,8 @@ pub(crate) struct MeshCollider {
     hash: SpatialHash,
     /// Triangles filed in `hash` (hash entries index this list).
     kept: Vec<u32>,
+    /// Unit normal of each kept triangle at `cur` (zero for zero-area ones), by hash entry.
+    normals: Vec<Vec3>,
     /// Cloth box the hash was culled for (`None` = no valid hash).
     built_for: Option<(Vec3, Vec3)>,
 }
@@ -184,6 +186,7 @@ impl MeshCollider {
             moving: false,
             hash: SpatialHash::new(),
             kept: Vec::new(),
+            normals: Vec::new(),
             built_for: None,
         })
     }
@@ -299,23 +302,63 @@ impl MeshCollider {
                 }
             }
         });
+        self.normals.clear();
+        self.normals.extend(self.kept.iter().map(|&t| {
+            let p = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
+            triangle_normal(p[0], p[1], p[2]).unwrap_or(Vec3::ZERO)
+        }));
         self.built_for = Some(cloth);
         PrepareOutcome { rebuilt: true, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() }
     }
 
     /// The paper's particle-vs-cell test at `p` against the triangles of its cell whose level
-    /// collides with `level`.
+    /// collides with `level`; the same result as
+    /// [`particle_vs_cell`](crate::collision::geometry::particle_vs_cell)
+    /// in two passes: first the side tests alone, with the normals
+    /// cached at the build, so the particles in front of some triangle (nearly all) leave
+    /// before any closest-point computation.
     #[inline]
     pub fn contact(&self, p: Vec3, level: i32, thickness: f32) -> Option<Contact> {
         if self.kept.is_empty() {
             return None;
         }
-        let cands = self
-            .hash
-            .query_cell(self.hash.cell_of(p.into()))
-            .map(|k| self.kept[k as usize])
-            .filter(|&t| levels_collide(level, self.tri_level[t as usize]));
-        particle_vs_cell(p, cands, &self.cur, &self.tris, thickness)
+        let cands = || {
+            self.hash
+                .query_cell(self.hash.cell_of(p.into()))
+                .filter(|&k| levels_collide(level, self.tri_level[self.kept[k as usize] as usize]))
+        };
+        let corner = |k: u32| Vec3::from(self.cur[self.tris[self.kept[k as usize] as usize][0] as usize]);
+        let mut any = false;
+        for k in cands() {
+            let n = self.normals[k as usize];
+            if n == Vec3::ZERO {
+                continue;
+            }
+            if (p - corner(k)).dot(n) >= thickness {
+                return None;
+            }
+            any = true;
+        }
+        if !any {
+            return None;
+        }
+        let mut best: Option<(f32, Contact)> = None;
+        for k in cands() {
+            let n = self.normals[k as usize];
+            if n == Vec3::ZERO {
+                continue;
+            }
+            let t = self.kept[k as usize];
+            let [a, b, c] = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
+            let (q, bary) = closest_point_on_triangle(p, a, b, c);
+            let d2 = q.distance_squared(p);
+            if best.as_ref().is_none_or(|(bd2, _)| d2 < *bd2) {
+                let depth = thickness - (p - q).dot(n);
+                best =
+                    Some((d2, Contact { triangle: t, closest: q, bary, normal: n, target: q + n * thickness, depth }));
+            }
+        }
+        best.map(|(_, c)| c)
     }
 
     /// Velocity of the collider surface at barycentric point `bary` of triangle `t`.

@@ -99,10 +99,10 @@ fn run(body: &(Vec<[f32; 3]>, Vec<[u32; 3]>), scene: Scene, warm: usize, frames:
 fn print_row(name: &str, t: &[f64; 9], s: &StepStats) {
     let solve = t[2] + t[3] - t[6] - t[7];
     println!(
-        "{name:<34} {:>8.1} | pred {:>6.1} local {:>6.1} global {:>6.1} damp {:>6.1} | hash {:>6.2} contacts {:>6.2} self {:>7.2} resolve {:>5.2} solve {:>7.1} | rebuilds {} reuses {} kept {} culled {} contacts {} pairs {}",
+        "{name:<34} {:>8.1} | pred {:>6.1} local {:>6.1} global {:>6.1} damp {:>6.1} | hash {:>6.2} contacts {:>6.2} self {:>7.2} resolve {:>5.2} solve {:>7.1} | rebuilds {} reuses {} kept {} culled {} contacts {} pairs {} self searches {}",
         t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], solve,
         s.collision.rebuilds, s.collision.reuses, s.collision.triangles_kept, s.collision.triangles_culled,
-        s.collision.mesh_contacts, s.collision.self_pairs
+        s.collision.mesh_contacts, s.collision.self_pairs, s.collision.self_searches
     );
 }
 
@@ -135,9 +135,13 @@ fn main() {
             "still body, no reuse, no culling",
             Scene {
                 moving: false,
-                skips: CollisionSkips { reuse_still_colliders: false, cull_far_triangles: false },
+                skips: CollisionSkips { reuse_still_colliders: false, cull_far_triangles: false, ..all },
                 ..base
             },
+        ),
+        (
+            "moving body, self search every pass",
+            Scene { skips: CollisionSkips { reuse_self_pairs: false, ..all }, ..base },
         ),
         ("moving body, self-collision off", Scene { self_on: false, ..base }),
         ("no body (no collider hash)", Scene { body: false, ..base }),

@@ -85,6 +85,7 @@ pub fn collision_stats_dict<'py>(py: Python<'py>, c: &CollisionStats) -> PyResul
     d.set_item("triangles_culled", c.triangles_culled)?;
     d.set_item("mesh_contacts", c.mesh_contacts)?;
     d.set_item("self_pairs", c.self_pairs)?;
+    d.set_item("self_searches", c.self_searches)?;
     Ok(d)
 }
 

@@ -50,11 +50,14 @@ pub struct CollisionSkips {
     pub reuse_still_colliders: bool,
     /// Leave collider triangles far from the cloth out of the hash.
     pub cull_far_triangles: bool,
+    /// Search self-collision pairs with a margin and keep the list while particles move
+    /// less than half of it (see `self_collide.rs`).
+    pub reuse_self_pairs: bool,
 }
 
 impl Default for CollisionSkips {
     fn default() -> Self {
-        Self { reuse_still_colliders: true, cull_far_triangles: true }
+        Self { reuse_still_colliders: true, cull_far_triangles: true, reuse_self_pairs: true }
     }
 }
 
@@ -77,8 +80,11 @@ pub struct CollisionStats {
     pub triangles_culled: usize,
     /// Particles touching a mesh collider at the end of the step.
     pub mesh_contacts: usize,
-    /// Overlapping cloth pairs found by the last self-collision pass.
+    /// Overlapping cloth pairs corrected by the last self-collision pass.
     pub self_pairs: usize,
+    /// Hash searches of the self-collision passes (a search serves passes until a particle
+    /// has moved half the search margin).
+    pub self_searches: u32,
 }
 
 /// Quality of the current state (see `collision::metrics`).
@@ -245,6 +251,7 @@ impl Simulation {
             ));
         }
         self.collide.levels = levels.to_vec();
+        self.collide.self_state.forget_pairs();
         Ok(())
     }
 
@@ -416,10 +423,18 @@ impl Simulation {
             Some((a, b)) => (a[i], b[i]),
             None => (s.static_friction, s.kinetic_friction),
         };
-        let inp =
-            PassInput { model: &self.model, levels: &c.levels, x_start: &self.x_start, radius, cell, friction: &fr };
+        let inp = PassInput {
+            model: &self.model,
+            levels: &c.levels,
+            x_start: &self.x_start,
+            radius,
+            cell,
+            friction: &fr,
+            reuse: c.skips.reuse_self_pairs,
+        };
         c.self_state.pass(&inp, &mut self.x);
         c.stats.self_pairs = c.self_state.last_pairs;
+        c.stats.self_searches += std::mem::take(&mut c.self_state.searches);
         c.stats.self_seconds += t0.elapsed().as_secs_f64();
     }
 

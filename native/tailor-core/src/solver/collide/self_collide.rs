@@ -67,7 +67,15 @@ pub(crate) struct SelfCollide {
     pub last_pairs: usize,
     /// One-thread pool for small cloths (see `SMALL`).
     serial: Option<rayon::ThreadPool>,
+    /// Candidate pairs (closer than `2r + margin` at `x_ref`) and the radius they were
+    /// searched for; empty `x_ref` = no valid list.
+    x_ref: Vec3Soa,
+    searched_radius: f32,
+    pub searches: u32,
 }
+
+/// Search margin as a fraction of the radius (see [`SelfCollide::pass`]).
+const MARGIN: f32 = 0.5;
 
 /// Below this many particles the pair search runs on one thread: its half-dozen parallel
 /// phases cost more in thread wake-ups than the work (measured: a 369-particle strip spent
@@ -124,23 +132,56 @@ pub(crate) struct PassInput<'a> {
     pub radius: f32,
     pub cell: f32,
     pub friction: &'a dyn Fn(usize) -> (f32, f32),
+    /// Keep the candidate list across passes (off: search every pass, same result).
+    pub reuse: bool,
 }
 
 impl SelfCollide {
     /// One pass of pair corrections on `x`.
+    ///
+    /// The hash search is not redone every pass: it looks for pairs closer than `2r + m`
+    /// (`m = MARGIN·r`), and the list serves every later pass until some particle has moved
+    /// more than `m/2` from where it was at the search. Until then it holds every pair closer
+    /// than `2r`: a pair left out was at least `2r + m` apart and each end moved less than
+    /// `m/2`. The corrections are therefore exactly those of a search every pass (tested), at
+    /// a fraction of the cost: particles move little between iterations.
     pub fn pass(&mut self, inp: &PassInput<'_>, x: &mut Vec3Soa) {
         let model = inp.model;
         if self.exclusions.is_none() || self.built_seams != model.seams.len() {
             // Indices were validated when the mesh and seams were built.
             self.exclusions = build_exclusions(model).ok();
             self.built_seams = model.seams.len();
+            self.x_ref = Vec3Soa::zeros(0);
         }
-        let Some(ex) = self.exclusions.as_ref() else { return };
+        let margin = MARGIN * inp.radius;
+        let fresh = inp.reuse && self.x_ref.len() == x.len() && self.searched_radius == inp.radius && {
+            let lim2 = 0.25 * margin * margin;
+            (0..x.len()).all(|i| x.get(i).distance_squared(self.x_ref.get(i)) < lim2)
+        };
+        if !fresh {
+            if !self.search(inp, x, margin) {
+                return;
+            }
+            self.x_ref.clone_from(x);
+            self.searched_radius = inp.radius;
+            self.searches += 1;
+        }
+        self.correct(inp, x);
+    }
+
+    /// Forgets the candidate list (levels changed).
+    pub fn forget_pairs(&mut self) {
+        self.x_ref = Vec3Soa::zeros(0);
+    }
+
+    fn search(&mut self, inp: &PassInput<'_>, x: &Vec3Soa, margin: f32) -> bool {
+        let Some(ex) = self.exclusions.as_ref() else { return false };
         let levels = inp.levels;
         let exclude = |a: u32, b: u32| ex.contains(a, b) || !levels_collide(levels[a as usize], levels[b as usize]);
         let finder = &mut self.finder;
         let (xs, ys, zs) = (&x.x, &x.y, &x.z);
-        let (radius, cell) = (inp.radius, inp.cell);
+        let radius = inp.radius + 0.5 * margin;
+        let cell = inp.cell.max(2.0 * radius);
         let found = if x.len() < SMALL {
             if self.serial.is_none() {
                 self.serial = rayon::ThreadPoolBuilder::new().num_threads(1).build().ok();
@@ -152,12 +193,14 @@ impl SelfCollide {
         } else {
             finder.find_pairs(xs, ys, zs, radius, cell, exclude).is_ok()
         };
-        if !found {
-            return;
-        }
+        found
+    }
+
+    fn correct(&mut self, inp: &PassInput<'_>, x: &mut Vec3Soa) {
+        let model = inp.model;
         let pairs = self.finder.pairs();
-        self.last_pairs = pairs.len();
         if pairs.is_empty() {
+            self.last_pairs = 0;
             return;
         }
         let n = x.len();
@@ -166,8 +209,13 @@ impl SelfCollide {
         self.count.clear();
         self.count.resize(n, 0);
         let two_r = 2.0 * inp.radius;
+        let mut overlapping = 0;
         for &[i, j] in pairs {
             let (i, j) = (i as usize, j as usize);
+            if x.get(i).distance_squared(x.get(j)) >= two_r * two_r {
+                continue;
+            }
+            overlapping += 1;
             let wi = if model.pinned[i] { 0.0 } else { 1.0 / model.mass[i] };
             let wj = if model.pinned[j] { 0.0 } else { 1.0 / model.mass[j] };
             let w = wi + wj;
@@ -195,6 +243,7 @@ impl SelfCollide {
             self.count[i] += 1;
             self.count[j] += 1;
         }
+        self.last_pairs = overlapping;
         for i in 0..n {
             if self.count[i] > 0 {
                 x.set(i, x.get(i) + self.delta[i] / self.count[i] as f32);
@@ -205,5 +254,6 @@ impl SelfCollide {
     /// Forgets the exclusions (the mesh or its seams changed).
     pub fn invalidate(&mut self) {
         self.exclusions = None;
+        self.x_ref = Vec3Soa::zeros(0);
     }
 }

@@ -2,7 +2,7 @@
 //! falling on the shoulders of the GarmentCode mean body (47 500 triangles), the body
 //! swaying, and what each of the scene's collision skips saves.
 //!
-//! `cargo run --release -p tailor-core --example collision_bench [body.obj] [frames]`
+//! `cargo run --release -p tailor-core --example collision_bench [body.obj] [frames] [case filter]`
 //!
 //! Prints per-frame milliseconds of each solver stage and of the collision work inside
 //! them (hash = collider interpolation and hash builds, contacts = particle-vs-cell tests in
@@ -146,7 +146,8 @@ fn main() {
         ("moving body, self-collision off", Scene { self_on: false, ..base }),
         ("no body (no collider hash)", Scene { body: false, ..base }),
     ];
-    for (name, scene) in cases {
+    let only = args.get(3).cloned().unwrap_or_default();
+    for (name, scene) in cases.into_iter().filter(|(n, _)| n.contains(only.as_str())) {
         let (t, s) = run(&body, scene, 10, frames);
         print_row(name, &t, &s);
     }

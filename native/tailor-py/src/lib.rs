@@ -4,6 +4,7 @@
 //! becomes one typed Python exception (see [`errors`]). Nothing here holds physics or geometry
 //! logic: each function converts its arguments, calls the core, and converts the result.
 
+mod colliders;
 mod convert;
 mod errors;
 mod io;
@@ -25,5 +26,10 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(io::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(io::read_pc2, m)?)?;
     m.add_function(wrap_pyfunction!(io::write_pc2, m)?)?;
+    m.add_function(wrap_pyfunction!(colliders::penetration, m)?)?;
+    m.add_function(wrap_pyfunction!(colliders::count_self_intersections, m)?)?;
+    m.add_function(wrap_pyfunction!(colliders::edge_strain, m)?)?;
+    m.add_function(wrap_pyfunction!(colliders::kinetic_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(colliders::max_seam_gap, m)?)?;
     Ok(())
 }

@@ -8,6 +8,7 @@ use tailor_core::solver::{
     self as core, Attachment, ImplicitCollider, RampPhase, ReferenceOptions, Seam, SeamPoint, Shape, StepStats,
 };
 
+use crate::colliders;
 use crate::convert::{floats, indices, points2, points3, soa_to_numpy, triangles, vec64_to_numpy, vec_to_numpy};
 use crate::errors::to_py;
 use crate::settings::{parse_method, Fabric, Settings};
@@ -43,6 +44,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &StepStats) -> PyResult<Bound<'py, PyDict
     d.set_item("seam_gap_max", s.seam_gap_max)?;
     d.set_item("seam_closed_fraction", s.seam_closed_fraction)?;
     d.set_item("contacts", s.contacts)?;
+    d.set_item("collision", crate::colliders::collision_stats_dict(py, &s.collision)?)?;
     Ok(d)
 }
 
@@ -333,6 +335,119 @@ impl Simulation {
         d.set_item("distance_rel", vec64_to_numpy(py, col(&|r| r.measures.distance_rel)))?;
         d.set_item("distance_max", vec64_to_numpy(py, col(&|r| r.measures.distance_max)))?;
         Ok(d)
+    }
+
+    // ----- mesh colliders, levels, friction, self-collision, metrics (see colliders.rs) -----
+
+    /// Adds an animated mesh collider (outward-facing triangles); returns its id. Give its
+    /// positions once per frame with `set_collider_positions`.
+    #[pyo3(signature = (vertices, triangles_, static_friction=0.5, kinetic_friction=0.3, cell_size=None, insertion="paper_or_plane"))]
+    fn add_mesh_collider(
+        &mut self,
+        vertices: &Bound<'_, PyAny>,
+        triangles_: &Bound<'_, PyAny>,
+        static_friction: f32,
+        kinetic_friction: f32,
+        cell_size: Option<f32>,
+        insertion: &str,
+    ) -> PyResult<u32> {
+        let opts = core::MeshColliderOptions {
+            static_friction,
+            kinetic_friction,
+            cell_size,
+            rule: colliders::insertion_rule(insertion)?,
+        };
+        let (v, t) = (points3(vertices, "collider vertices")?, triangles(triangles_, "collider triangles")?);
+        Ok(self.inner.add_mesh_collider(&v, &t, opts).map_err(to_py)?.0)
+    }
+
+    #[getter]
+    fn num_mesh_colliders(&self) -> usize {
+        self.inner.num_mesh_colliders()
+    }
+
+    /// The collider's vertex positions (n, 3) at the end of the next step.
+    fn set_collider_positions(&mut self, collider: i64, positions: &Bound<'_, PyAny>) -> PyResult<()> {
+        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
+        self.inner.set_collider_positions(id, &points3(positions, "collider positions")?).map_err(to_py)
+    }
+
+    /// The collider's positions at the last substep run.
+    fn collider_positions<'py>(&self, py: Python<'py>, collider: i64) -> PyResult<Bound<'py, PyAny>> {
+        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
+        colliders::rows_to_numpy(py, self.inner.collider_positions(id).map_err(to_py)?)
+    }
+
+    /// Collision levels of a collider, one per vertex or one per triangle.
+    fn set_collider_levels(&mut self, collider: i64, levels: &Bound<'_, PyAny>) -> PyResult<()> {
+        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
+        self.inner.set_collider_levels(id, &colliders::levels(levels, "collider levels")?).map_err(to_py)
+    }
+
+    fn set_collider_friction(&mut self, collider: i64, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
+        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
+        self.inner.set_collider_friction(id, static_friction, kinetic_friction).map_err(to_py)
+    }
+
+    /// Collision level per cloth particle: a particle of level a and a primitive of level b
+    /// collide unless a != 0, b != 0 and a != b.
+    fn set_particle_levels(&mut self, levels: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.inner.set_particle_levels(&colliders::levels(levels, "particle levels")?).map_err(to_py)
+    }
+
+    #[getter]
+    fn particle_levels<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        PyArray1::from_vec(py, self.inner.particle_levels().to_vec()).into_any()
+    }
+
+    /// Per-particle static and kinetic friction (overriding the colliders' and the
+    /// self-collision defaults); call without arguments to restore the defaults.
+    #[pyo3(signature = (static_friction=None, kinetic_friction=None))]
+    fn set_particle_friction(
+        &mut self,
+        static_friction: Option<&Bound<'_, PyAny>>,
+        kinetic_friction: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        match (static_friction, kinetic_friction) {
+            (Some(s), Some(k)) => {
+                let (s, k) = (floats(s, "static_friction")?, floats(k, "kinetic_friction")?);
+                self.inner.set_particle_friction(Some((&s, &k))).map_err(to_py)
+            }
+            (None, None) => self.inner.set_particle_friction(None).map_err(to_py),
+            _ => Err(to_py(tailor_core::TailorError::shape(
+                "particle friction",
+                "give both static and kinetic coefficients, or neither",
+            ))),
+        }
+    }
+
+    /// Self-collision: on/off, sphere radius (None = half the mean rest edge), friction.
+    #[pyo3(signature = (enabled=true, radius=None, static_friction=0.3, kinetic_friction=0.2))]
+    fn set_self_collision(
+        &mut self,
+        enabled: bool,
+        radius: Option<f32>,
+        static_friction: f32,
+        kinetic_friction: f32,
+    ) -> PyResult<()> {
+        let s = core::SelfCollisionSettings { enabled, radius, static_friction, kinetic_friction };
+        self.inner.set_self_collision(s).map_err(to_py)
+    }
+
+    /// Self-collision settings in effect (radius resolved).
+    #[getter]
+    fn self_collision<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        colliders::self_collision_dict(py, &self.inner.self_collision(), self.inner.self_collision_radius())
+    }
+
+    /// Quality of the current state: penetration into mesh collider `collider` (if given),
+    /// self-intersections, seam gap, edge strain, kinetic energy.
+    #[pyo3(signature = (collider=None))]
+    fn metrics<'py>(&self, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
+        let id = collider.map(|c| colliders::collider_id(c, self.inner.num_mesh_colliders())).transpose()?;
+        let inner = &self.inner;
+        let m = py.detach(|| inner.metrics(id)).map_err(to_py)?;
+        colliders::metrics_dict(py, &m)
     }
 
     fn __repr__(&self) -> String {

@@ -8,6 +8,7 @@
 
 pub mod chebyshev;
 mod cholesky;
+pub mod collide;
 pub mod colouring;
 pub mod constraints;
 pub mod contacts;
@@ -24,6 +25,9 @@ pub mod soa;
 pub mod stats;
 pub mod system;
 
+pub use collide::{
+    ColliderId, CollisionSkips, CollisionStats, MeshColliderOptions, QualityMetrics, SelfCollisionSettings,
+};
 pub use constraints::{Attachment, Seam, SeamPoint};
 pub use contacts::{ImplicitCollider, Shape};
 pub use damping::RampPhase;

@@ -20,6 +20,7 @@ use crate::error::{Result, TailorError};
 use crate::mesh::{check_finite3, ClothMesh};
 
 use super::chebyshev::Chebyshev;
+use super::collide::{Collisions, MESH_CONTACT};
 use super::constraints::{Attachment, Seam};
 use super::contacts::{coulomb, resolve_penetrations, ContactSet, ImplicitCollider};
 use super::damping::{decay, Ramp};
@@ -38,10 +39,10 @@ pub struct Simulation {
     pub(crate) model: Model,
     pub(crate) settings: SolverSettings,
     colliders: Vec<ImplicitCollider>,
-    thickness: f32,
+    pub(crate) thickness: f32,
     pub(crate) x: Vec3Soa,
     v: Vec3Soa,
-    x_start: Vec3Soa,
+    pub(crate) x_start: Vec3Soa,
     pub(crate) y: Vec3Soa,
     x_prev_iter: Vec3Soa,
     x_this_iter: Vec3Soa,
@@ -52,6 +53,8 @@ pub struct Simulation {
     sweep_work: Vec<Vec3A>,
     sweep_parts: Vec<SweepNorms>,
     pub(crate) contacts: ContactSet,
+    /// Mesh colliders and self-collision (`collide/`).
+    pub(crate) collide: Collisions,
     pin_target: Vec3Soa,
     ramp: Ramp,
     cheb: Chebyshev,
@@ -102,6 +105,7 @@ impl Simulation {
             sweep_work: Vec::new(),
             sweep_parts: Vec::new(),
             contacts,
+            collide: Collisions::new(n),
             pin_target: x.clone(),
             x,
             ramp: Ramp::default(),
@@ -215,6 +219,7 @@ impl Simulation {
     /// Adds a seam; the seam-closing ramp starts again. Returns the hinges created.
     pub fn add_seam(&mut self, seam: Seam) -> Result<usize> {
         let hinges = self.model.add_seam(seam)?;
+        self.collide.invalidate_topology();
         self.ramp = Ramp::default();
         Ok(hinges)
     }
@@ -290,6 +295,12 @@ impl Simulation {
 
     /// Advances by `dt` seconds in `settings.substeps` substeps.
     pub fn step(&mut self, dt: f32) -> Result<StepStats> {
+        self.step_observed(dt, |_, _| {})
+    }
+
+    /// [`step`](Self::step), calling `observe(k, self)` after each substep `k` (tests check
+    /// invariants that must hold at every substep, not only at frame ends).
+    pub fn step_observed(&mut self, dt: f32, mut observe: impl FnMut(u32, &Simulation)) -> Result<StepStats> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(TailorError::setting("dt", dt, "the time step must be positive and finite"));
         }
@@ -297,8 +308,11 @@ impl Simulation {
         let substeps = self.settings.substeps;
         let h = dt / substeps as f32;
         let mut stats = StepStats { substeps, ..Default::default() };
-        for _ in 0..substeps {
+        self.collide.begin_frame(dt);
+        for k in 0..substeps {
+            self.collide.set_substep(k, substeps);
             let (out, t) = self.substep(h);
+            observe(k, self);
             stats.iterations += out.iterations;
             stats.residual = out.residual;
             stats.rho = out.rho;
@@ -319,6 +333,7 @@ impl Simulation {
         stats.damping = self.ramp.damping(&self.settings);
         stats.ramp_phase = self.ramp.phase;
         stats.contacts = self.contacts.count();
+        stats.collision = self.collide.take_stats();
         Ok(stats)
     }
 
@@ -366,6 +381,7 @@ impl Simulation {
         } else {
             self.contacts.detect(&self.colliders, self.thickness, &self.x, &self.diag, &self.model.pinned);
         }
+        self.detect_mesh_contacts();
     }
 
     /// Rebuilds derived structures and per-`h` quantities when needed.
@@ -487,6 +503,9 @@ impl Simulation {
                     n
                 }
             };
+            if detect {
+                self.self_collide_iteration();
+            }
             timings.local += (t1 - t0).as_secs_f64();
             timings.global += t1.elapsed().as_secs_f64();
             if k == 0 {
@@ -508,6 +527,7 @@ impl Simulation {
         let t0 = Instant::now();
         self.prepare(h);
         self.predict(h);
+        self.prepare_mesh_collisions();
         t.prediction = t0.elapsed().as_secs_f64();
         let (method, iters, tol) = (self.settings.method, self.settings.iterations, self.settings.tolerance);
         let out = self.iterate(method, iters, tol, true, &mut t, |_, _| {});
@@ -519,6 +539,7 @@ impl Simulation {
 
     /// Damping stage: penetrations, velocities, friction, air damping, ramp.
     fn finish_substep(&mut self, h: f32) {
+        self.resolve_mesh_penetrations(h);
         if !self.colliders.is_empty() {
             resolve_penetrations(&self.colliders, self.thickness, &mut self.x, &self.model.pinned);
         }
@@ -527,7 +548,8 @@ impl Simulation {
         for i in 0..self.num_particles() {
             let mut v = (self.x.get(i) - self.x_start.get(i)) * inv_h;
             let c = self.contacts.collider[i];
-            if c != u32::MAX {
+            // Mesh contacts had their friction in `resolve_mesh_penetrations`.
+            if c != u32::MAX && c & MESH_CONTACT == 0 {
                 let col = &self.colliders[c as usize];
                 let n = self.contacts.normal.get(i);
                 let v_pred = (self.y.get(i) - self.x_start.get(i)) * inv_h;

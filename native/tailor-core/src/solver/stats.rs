@@ -1,5 +1,6 @@
 //! What a step reports: per-stage timings, iterations used, the final residual.
 
+use super::collide::CollisionStats;
 use super::damping::RampPhase;
 
 /// Wall time per solver stage, seconds, summed over a step's substeps.
@@ -50,4 +51,6 @@ pub struct StepStats {
     pub seam_closed_fraction: f32,
     /// Particles in contact with a collider at the end of the step.
     pub contacts: usize,
+    /// Mesh-collider and self-collision work (times also counted in the stages above).
+    pub collision: CollisionStats,
 }

@@ -1,0 +1,373 @@
+//! A mesh collider (an animated character): its triangles, its vertex positions at the start
+//! and end of the current frame, and the spatial hash of the positions of the current substep.
+//!
+//! Positions are given once per frame; substep `k` of `K` sees the linear interpolation at
+//! `α = (k + 1)/K` (the paper's anti-tunnelling: a fast limb moves a fraction of its frame
+//! motion per substep, not all of it in the first), and every vertex moves at the constant
+//! velocity `(next − prev)/dt` during the frame (used by friction).
+//!
+//! The hash is rebuilt from scratch for each substep's positions (Alg. 1), with two skips:
+//!
+//! * **culling**: a triangle whose AABB misses the cloth's box grown by a margin is not filed.
+//!   A triangle filed in a cell always overlaps that cell (every insertion rule visits only the
+//!   cells of the triangle's AABB), so for a particle inside the cloth box grown by one cell
+//!   the culled triangles were never candidates: culling does not change any contact.
+//! * **reuse**: a collider whose positions did not change between frames keeps its hash for
+//!   every substep, rebuilt only when the cloth leaves the box the hash was culled for.
+
+use glam::Vec3;
+
+use super::levels::{levels_collide, triangle_levels_from_vertices};
+use crate::collision::collider_hash::{keeps_cell, InsertionRule};
+use crate::collision::geometry::{closest_point_on_triangle, triangle_normal, Contact};
+use crate::collision::hash::{cell_of, Cell, SpatialHash};
+use crate::error::{Result, TailorError};
+use crate::mesh::check_finite3;
+
+/// Handle of a mesh collider of a simulation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ColliderId(pub u32);
+
+/// Options of a mesh collider.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshColliderOptions {
+    /// Default static friction μs of particles touching this collider.
+    pub static_friction: f32,
+    /// Default kinetic friction μk.
+    pub kinetic_friction: f32,
+    /// Hash cell side, metres; `None` = the mean collider edge length (the paper's choice).
+    pub cell_size: Option<f32>,
+    /// Which cells a triangle is filed in. Default [`InsertionRule::PaperOrPlane`]: Alg. 1 alone
+    /// misses the interior of triangles larger than a cell (measured in `collider_hash.rs`:
+    /// the nearest triangle is in the particle's cell for 96 % of near-surface points with the
+    /// paper rule at cell = mean edge, 40 % at cell = edge/2, ≥ 99.7 % with the plane cells),
+    /// and character meshes are rarely isotropic. `tests/collision_mesh.rs` shows a cloth
+    /// falling through a two-triangle floor with the paper rule and resting on it with this.
+    pub rule: InsertionRule,
+}
+
+impl Default for MeshColliderOptions {
+    fn default() -> Self {
+        Self { static_friction: 0.5, kinetic_friction: 0.3, cell_size: None, rule: InsertionRule::PaperOrPlane }
+    }
+}
+
+/// At most this many cells in one triangle's AABB (as in `ColliderHash`): more means a cell
+/// size far too small for the collider and is refused rather than looped over.
+const MAX_AABB_CELLS: u64 = 1 << 20;
+
+#[derive(Debug)]
+pub(crate) struct MeshCollider {
+    pub tris: Vec<[u32; 3]>,
+    pub tri_level: Vec<i32>,
+    pub opts: MeshColliderOptions,
+    pub cell: f32,
+    /// Positions at the start and end of the current frame.
+    prev: Vec<[f32; 3]>,
+    next: Vec<[f32; 3]>,
+    pending: Option<Vec<[f32; 3]>>,
+    /// Positions of the current substep.
+    pub cur: Vec<[f32; 3]>,
+    /// Vertex velocities during the current frame.
+    pub vel: Vec<Vec3>,
+    /// Whether the collider moves during the current frame.
+    pub moving: bool,
+    hash: SpatialHash,
+    /// Triangles filed in `hash` (hash entries index this list).
+    kept: Vec<u32>,
+    /// Unit normal of each kept triangle at `cur` (zero for zero-area ones), by hash entry.
+    normals: Vec<Vec3>,
+    /// Cloth box the hash was culled for (`None` = no valid hash).
+    built_for: Option<(Vec3, Vec3)>,
+}
+
+/// What one `prepare` did (for the statistics).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct PrepareOutcome {
+    pub rebuilt: bool,
+    pub kept: usize,
+    pub culled: usize,
+}
+
+fn validate(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Result<()> {
+    if vertices.is_empty() || triangles.is_empty() {
+        return Err(TailorError::EmptyMesh { what: "mesh collider".into() });
+    }
+    check_finite3("collider vertices", vertices)?;
+    let n = vertices.len();
+    for (t, tri) in triangles.iter().enumerate() {
+        if let Some(&v) = tri.iter().find(|&&v| v as usize >= n) {
+            return Err(TailorError::index(format!("collider triangle {t}"), v as i64, n, "vertices"));
+        }
+    }
+    Ok(())
+}
+
+fn check_cell_span(vertices: &[[f32; 3]], triangles: &[[u32; 3]], cell: f32) -> Result<()> {
+    for (t, tri) in triangles.iter().enumerate() {
+        let p = tri.map(|v| Vec3::from(vertices[v as usize]));
+        let pad = PAD * cell;
+        let lo = cell_of((p[0].min(p[1]).min(p[2]) - pad).into(), cell);
+        let hi = cell_of((p[0].max(p[1]).max(p[2]) + pad).into(), cell);
+        let cells: u64 = (0..3).map(|k| (hi[k] - lo[k] + 1) as u64).product();
+        if cells > MAX_AABB_CELLS {
+            return Err(TailorError::setting(
+                "cell_size",
+                cell,
+                format!("collider triangle {t} spans {cells} hash cells; use a larger cell size"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Mean length of the triangles' edges (each shared edge counted twice; this is a cell size,
+/// not a measurement).
+fn mean_edge(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> f32 {
+    let mut sum = 0.0f64;
+    for t in triangles {
+        let p = t.map(|v| Vec3::from(vertices[v as usize]));
+        sum += (p[0].distance(p[1]) + p[1].distance(p[2]) + p[2].distance(p[0])) as f64;
+    }
+    (sum / (3 * triangles.len()) as f64) as f32
+}
+
+/// Triangles are filed in the cells of their AABB grown by `PAD · l`, and the plane test of
+/// [`InsertionRule::PaperOrPlane`] uses a slab as thick: a triangle lying on a cell face (a
+/// floor at z = 0 with cells [−l, 0) and [0, l)) is then also in the cell just behind it, where
+/// a particle lands after crossing it within one substep. Without the pad such a particle
+/// finds an empty cell and falls through (`tests/collision_mesh.rs`, the two-triangle floor).
+const PAD: f32 = 0.25;
+
+/// [`keeps_cell`] with the plane test widened by `pad`.
+#[inline]
+fn keeps_padded(t: [Vec3; 3], cell: Cell, l: f32, pad: f32, rule: InsertionRule) -> bool {
+    if keeps_cell(t, cell, l, rule) {
+        return true;
+    }
+    if rule != InsertionRule::PaperOrPlane {
+        return false;
+    }
+    let centre = (Vec3::new(cell[0] as f32, cell[1] as f32, cell[2] as f32) + 0.5) * l;
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    n.dot(centre - t[0]).abs() <= 0.5 * l * n.abs().element_sum() + pad * n.length()
+}
+
+impl MeshCollider {
+    pub fn new(vertices: &[[f32; 3]], triangles: &[[u32; 3]], opts: MeshColliderOptions) -> Result<Self> {
+        validate(vertices, triangles)?;
+        for (name, v) in [("static_friction", opts.static_friction), ("kinetic_friction", opts.kinetic_friction)] {
+            crate::solver::settings::non_negative(name, v)?;
+        }
+        let cell = match opts.cell_size {
+            Some(c) if !(c.is_finite() && c > 0.0) => {
+                return Err(TailorError::setting("cell_size", c, "the hash cell size must be positive and finite"))
+            }
+            Some(c) => c,
+            None => {
+                let e = mean_edge(vertices, triangles);
+                if !(e.is_finite() && e > 0.0) {
+                    return Err(TailorError::EmptyMesh { what: "mesh collider (every triangle has zero size)".into() });
+                }
+                e
+            }
+        };
+        check_cell_span(vertices, triangles, cell)?;
+        Ok(Self {
+            tris: triangles.to_vec(),
+            tri_level: vec![0; triangles.len()],
+            opts,
+            cell,
+            prev: vertices.to_vec(),
+            next: vertices.to_vec(),
+            pending: None,
+            cur: vertices.to_vec(),
+            vel: vec![Vec3::ZERO; vertices.len()],
+            moving: false,
+            hash: SpatialHash::new(),
+            kept: Vec::new(),
+            normals: Vec::new(),
+            built_for: None,
+        })
+    }
+
+    pub fn num_vertices(&self) -> usize {
+        self.next.len()
+    }
+
+    /// Positions at the end of the next frame.
+    pub fn set_positions(&mut self, p: &[[f32; 3]]) -> Result<()> {
+        if p.len() != self.num_vertices() {
+            return Err(TailorError::shape(
+                "collider positions",
+                format!("{} positions for {} collider vertices", p.len(), self.num_vertices()),
+            ));
+        }
+        check_finite3("collider positions", p)?;
+        check_cell_span(p, &self.tris, self.cell)?;
+        self.pending = Some(p.to_vec());
+        Ok(())
+    }
+
+    /// Per-vertex (length = vertices) or per-triangle (length = triangles) levels.
+    pub fn set_levels(&mut self, levels: &[i32]) -> Result<()> {
+        if levels.len() == self.tris.len() {
+            self.tri_level = levels.to_vec();
+        } else if levels.len() == self.num_vertices() {
+            self.tri_level = triangle_levels_from_vertices(levels, &self.tris);
+        } else {
+            return Err(TailorError::shape(
+                "collider levels",
+                format!(
+                    "{} levels: give one per vertex ({}) or one per triangle ({})",
+                    levels.len(),
+                    self.num_vertices(),
+                    self.tris.len()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Starts a frame of `dt` seconds: takes the pending positions as the frame's end.
+    pub fn begin_frame(&mut self, dt: f32) {
+        let was_moving = self.moving;
+        match self.pending.take() {
+            Some(p) => self.prev = std::mem::replace(&mut self.next, p),
+            None => {
+                if was_moving {
+                    self.prev.clone_from(&self.next);
+                }
+            }
+        }
+        self.moving = self.prev != self.next;
+        if self.moving {
+            let inv = 1.0 / dt;
+            for (v, (a, b)) in self.vel.iter_mut().zip(self.prev.iter().zip(&self.next)) {
+                *v = (Vec3::from(*b) - Vec3::from(*a)) * inv;
+            }
+            self.built_for = None;
+        } else if was_moving {
+            self.vel.iter_mut().for_each(|v| *v = Vec3::ZERO);
+            self.cur.clone_from(&self.next);
+            self.built_for = None;
+        }
+    }
+
+    /// Positions of substep fraction `alpha` and the hash for them; `cloth` is the box of the
+    /// cloth during the substep. `force` rebuilds even a still collider, `cull` enables culling.
+    pub fn prepare(&mut self, alpha: f32, cloth: (Vec3, Vec3), force: bool, cull: bool) -> PrepareOutcome {
+        if self.moving {
+            for (c, (a, b)) in self.cur.iter_mut().zip(self.prev.iter().zip(&self.next)) {
+                *c = (Vec3::from(*a).lerp(Vec3::from(*b), alpha)).into();
+            }
+        }
+        let l = self.cell;
+        let reusable = !self.moving
+            && !force
+            && match self.built_for {
+                // The hash was culled for `built ⊕ 2l`; valid while the cloth stays within `built ⊕ l`.
+                Some((lo, hi)) => !cull || (cloth.0.cmpge(lo - l).all() && cloth.1.cmple(hi + l).all()),
+                None => false,
+            };
+        if reusable {
+            return PrepareOutcome { rebuilt: false, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() };
+        }
+        let (lo, hi) = (cloth.0 - 2.0 * l, cloth.1 + 2.0 * l);
+        self.kept.clear();
+        for (t, tri) in self.tris.iter().enumerate() {
+            if cull {
+                let p = tri.map(|v| Vec3::from(self.cur[v as usize]));
+                let (tlo, thi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+                if tlo.cmpgt(hi).any() || thi.cmplt(lo).any() {
+                    continue;
+                }
+            }
+            self.kept.push(t as u32);
+        }
+        let (cur, tris, kept, rule) = (&self.cur, &self.tris, &self.kept, self.opts.rule);
+        let pad = PAD * l;
+        // Sizes were checked when positions were given, so the build cannot fail.
+        let _ = self.hash.build_with(kept.len(), l, |i, emit| {
+            let t = tris[kept[i] as usize].map(|v| Vec3::from(cur[v as usize]));
+            let (lo, hi) = (t[0].min(t[1]).min(t[2]) - pad, t[0].max(t[1]).max(t[2]) + pad);
+            let (clo, chi) = (cell_of(lo.into(), l), cell_of(hi.into(), l));
+            for z in clo[2]..=chi[2] {
+                for y in clo[1]..=chi[1] {
+                    for x in clo[0]..=chi[0] {
+                        if keeps_padded(t, [x, y, z], l, pad, rule) {
+                            emit([x, y, z]);
+                        }
+                    }
+                }
+            }
+        });
+        self.normals.clear();
+        self.normals.extend(self.kept.iter().map(|&t| {
+            let p = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
+            triangle_normal(p[0], p[1], p[2]).unwrap_or(Vec3::ZERO)
+        }));
+        self.built_for = Some(cloth);
+        PrepareOutcome { rebuilt: true, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() }
+    }
+
+    /// The paper's particle-vs-cell test at `p` against the triangles of its cell whose level
+    /// collides with `level`; the same result as
+    /// [`particle_vs_cell`](crate::collision::geometry::particle_vs_cell)
+    /// in two passes: first the side tests alone, with the normals
+    /// cached at the build, so the particles in front of some triangle (nearly all) leave
+    /// before any closest-point computation.
+    #[inline]
+    pub fn contact(&self, p: Vec3, level: i32, thickness: f32) -> Option<Contact> {
+        if self.kept.is_empty() {
+            return None;
+        }
+        let cands = || {
+            self.hash
+                .query_cell(self.hash.cell_of(p.into()))
+                .filter(|&k| levels_collide(level, self.tri_level[self.kept[k as usize] as usize]))
+        };
+        let corner = |k: u32| Vec3::from(self.cur[self.tris[self.kept[k as usize] as usize][0] as usize]);
+        let mut any = false;
+        for k in cands() {
+            let n = self.normals[k as usize];
+            if n == Vec3::ZERO {
+                continue;
+            }
+            if (p - corner(k)).dot(n) >= thickness {
+                return None;
+            }
+            any = true;
+        }
+        if !any {
+            return None;
+        }
+        let mut best: Option<(f32, Contact)> = None;
+        for k in cands() {
+            let n = self.normals[k as usize];
+            if n == Vec3::ZERO {
+                continue;
+            }
+            let t = self.kept[k as usize];
+            let [a, b, c] = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
+            let (q, bary) = closest_point_on_triangle(p, a, b, c);
+            let d2 = q.distance_squared(p);
+            if best.as_ref().is_none_or(|(bd2, _)| d2 < *bd2) {
+                let depth = thickness - (p - q).dot(n);
+                best =
+                    Some((d2, Contact { triangle: t, closest: q, bary, normal: n, target: q + n * thickness, depth }));
+            }
+        }
+        best.map(|(_, c)| c)
+    }
+
+    /// Velocity of the collider surface at barycentric point `bary` of triangle `t`.
+    #[inline]
+    pub fn velocity_at(&self, t: u32, bary: [f32; 3]) -> Vec3 {
+        if !self.moving {
+            return Vec3::ZERO;
+        }
+        let tri = self.tris[t as usize];
+        self.vel[tri[0] as usize] * bary[0] + self.vel[tri[1] as usize] * bary[1] + self.vel[tri[2] as usize] * bary[2]
+    }
+}

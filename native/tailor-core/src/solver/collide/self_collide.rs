@@ -22,7 +22,9 @@ use crate::error::{Result, TailorError};
 use crate::solver::model::Model;
 use crate::solver::soa::Vec3Soa;
 
-/// Self-collision settings.
+/// Self-collision settings. Off by default: a single-layer garment does not need the pass, and
+/// near a closing seam the spheres of the two sides fight the seam (measured on the demo sleeve:
+/// max strain 0.14 without, 0.96 with); turn it on for layered garments.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SelfCollisionSettings {
     pub enabled: bool,
@@ -35,7 +37,7 @@ pub struct SelfCollisionSettings {
 
 impl Default for SelfCollisionSettings {
     fn default() -> Self {
-        Self { enabled: true, radius: None, static_friction: 0.3, kinetic_friction: 0.2 }
+        Self { enabled: false, radius: None, static_friction: 0.3, kinetic_friction: 0.2 }
     }
 }
 

@@ -1,32 +1,66 @@
 //! A [`Garment`] from a read [`Pattern`]: every piece triangulated at one resolution, each
 //! piece keeping the pattern's placement, and the pattern's stitches turned into seams.
+//!
+//! Real CAD exports often carry internal lines (grain, mirror or construction lines) that poke
+//! out of the piece or duplicate outline points, which triangulation rightly refuses. Rather
+//! than refusing the whole pattern, a piece that fails *with* internal lines but succeeds
+//! without them is imported without them, and the reason is kept in
+//! `settings["import_warnings"]` (a list of strings) so callers can show it.
 
 use std::path::Path;
 
-use super::build::triangulate_all;
+use rayon::prelude::*;
+use serde_json::Value;
+
 use super::stitches::stitch_seam;
 use crate::error::Result;
 use crate::garment_file::{Garment, GarmentPiece};
-use crate::pattern::{read_pattern, Pattern, Placement, ReadOptions};
+use crate::pattern::{read_pattern, Pattern, Piece, Placement, ReadOptions};
 use crate::seam::SeamMode;
-use crate::triangulate::{PieceMesh, TriangulateOptions};
+use crate::triangulate::{triangulate_piece, PieceMesh, TriangulateOptions};
+
+/// Triangulates `piece`; on failure retries without its internal lines. Returns the piece as
+/// meshed, its mesh, and a warning when lines were dropped.
+fn mesh_piece(piece: &Piece, options: &TriangulateOptions) -> Result<(Piece, PieceMesh, Option<String>)> {
+    match triangulate_piece(piece, options) {
+        Ok(m) => Ok((piece.clone(), m, None)),
+        Err(e) if !piece.internal_lines.is_empty() => {
+            let mut bare = piece.clone();
+            bare.internal_lines.clear();
+            match triangulate_piece(&bare, options) {
+                Ok(m) => {
+                    let n = piece.internal_lines.len();
+                    let warning = format!("{e}; imported without its {n} internal line(s)");
+                    Ok((bare, m, Some(warning)))
+                }
+                Err(_) => Err(e),
+            }
+        }
+        Err(e) => Err(e),
+    }
+}
 
 /// Builds a garment from `pattern`, every piece meshed with `options`. Returns the garment and
 /// its piece meshes (so callers need not triangulate twice). A stitch's seam is in
 /// [`SeamMode::Equal`] when its two sides have the same vertex count at this resolution,
 /// [`SeamMode::Unequal`] otherwise. The pattern's source and size go into `settings`
-/// (`"pattern_source"`, `"pattern_size"`).
+/// (`"pattern_source"`, `"pattern_size"`), with `"import_warnings"` when internal lines had
+/// to be dropped (see the module docs).
 pub fn garment_from_pattern(pattern: &Pattern, options: &TriangulateOptions) -> Result<(Garment, Vec<PieceMesh>)> {
+    let meshed: Vec<(Piece, PieceMesh, Option<String>)> =
+        pattern.pieces.par_iter().map(|p| mesh_piece(p, options)).collect::<Result<_>>()?;
     let mut garment = Garment::default();
-    for piece in &pattern.pieces {
+    let (mut meshes, mut warnings) = (Vec::with_capacity(meshed.len()), Vec::new());
+    for (piece, mesh, warning) in meshed {
         garment.pieces.push(GarmentPiece {
-            source: piece.clone(),
-            options: options.clone(),
             placement: piece.placement.clone(),
+            source: piece,
+            options: options.clone(),
             bend: None,
         });
+        meshes.push(mesh);
+        warnings.extend(warning.map(Value::String));
     }
-    let meshes = triangulate_all(&garment)?;
     let placements: Vec<Option<Placement>> = pattern.pieces.iter().map(|p| p.placement.clone()).collect();
     for (i, stitch) in pattern.stitches.iter().enumerate() {
         let mut seam = stitch_seam(i, stitch, &pattern.pieces, &placements, SeamMode::Unequal)?;
@@ -36,9 +70,12 @@ pub fn garment_from_pattern(pattern: &Pattern, options: &TriangulateOptions) -> 
         }
         garment.seams.push(seam);
     }
-    garment.settings.insert("pattern_source".into(), serde_json::Value::String(pattern.source.clone()));
+    garment.settings.insert("pattern_source".into(), Value::String(pattern.source.clone()));
     if let Some(size) = &pattern.size {
-        garment.settings.insert("pattern_size".into(), serde_json::Value::String(size.clone()));
+        garment.settings.insert("pattern_size".into(), Value::String(size.clone()));
+    }
+    if !warnings.is_empty() {
+        garment.settings.insert("import_warnings".into(), Value::Array(warnings));
     }
     Ok((garment, meshes))
 }
@@ -52,4 +89,12 @@ pub fn read_garment(
     let pattern = read_pattern(path, read)?;
     let (garment, meshes) = garment_from_pattern(&pattern, options)?;
     Ok((pattern, garment, meshes))
+}
+
+/// The warnings [`garment_from_pattern`] recorded in `settings["import_warnings"]`.
+pub fn import_warnings(garment: &Garment) -> Vec<String> {
+    match garment.settings.get("import_warnings") {
+        Some(Value::Array(v)) => v.iter().filter_map(|w| w.as_str().map(str::to_string)).collect(),
+        _ => Vec::new(),
+    }
 }

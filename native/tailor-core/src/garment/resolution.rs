@@ -15,7 +15,10 @@ use crate::triangulate::PieceMesh;
 /// remaps every seam. Returns the new meshes of all pieces. On error the garment is unchanged.
 pub fn set_resolution(garment: &mut Garment, piece: usize, edge_length: f64) -> Result<Vec<PieceMesh>> {
     let n = garment.pieces.len();
-    let p = garment.pieces.get(piece).ok_or_else(|| TailorError::index("garment pieces", piece as i64, n, "pieces"))?;
+    let p = garment
+        .pieces
+        .get(piece)
+        .ok_or_else(|| TailorError::setting("piece", piece, format!("must be a piece index below {n}")))?;
     let mut next = garment.clone();
     let mut options = p.options.clone();
     options.edge_length = edge_length;

@@ -4,9 +4,13 @@
 //! becomes one typed Python exception (see [`errors`]). Nothing here holds physics or geometry
 //! logic: each function converts its arguments, calls the core, and converts the result.
 
+mod contour;
 mod convert;
 mod errors;
+mod garment;
+mod patterns;
 mod scenes;
+mod seams;
 mod settings;
 mod simulation;
 
@@ -20,5 +24,9 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<settings::Settings>()?;
     m.add_class::<simulation::Simulation>()?;
     m.add_function(wrap_pyfunction!(scenes::sewn_tube, m)?)?;
+    patterns::register(m)?;
+    contour::register(m)?;
+    m.add_class::<seams::Seam>()?;
+    garment::register(m)?;
     Ok(())
 }

@@ -88,7 +88,14 @@ pub fn solver_input(garment: &Garment, meshes: Vec<PieceMesh>, options: &BuildOp
         })
         .collect();
     for (pair, &k) in sewn.pairs.iter().zip(&sewn.pair_seam) {
-        seams[k as usize].pairs.push((seam_point(pair.a), seam_point(pair.b)));
+        let (a, b) = (seam_point(pair.a), seam_point(pair.b));
+        // A dart's tip is sewn to itself: a constraint with nothing to do, which the solver
+        // refuses; leave it out.
+        let same_vertex = |p: &SeamPoint| p.weights[1] == 0.0 || p.verts[0] == p.verts[1];
+        if same_vertex(&a) && same_vertex(&b) && a.verts[0] == b.verts[0] {
+            continue;
+        }
+        seams[k as usize].pairs.push((a, b));
     }
     Ok(SolverInput { meshes, sewn, seams })
 }

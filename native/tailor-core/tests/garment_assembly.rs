@@ -285,7 +285,10 @@ fn every_garmentcode_pattern_builds_and_the_pencil_dress_closes_untwisted() {
     let (mut sim, input) = build_simulation(&g, Fabric::default(), no_gravity(), &options).unwrap();
     let (gap, secs) = close_seams(&mut sim, 1e-3, 0, 150);
     let strain = max_strain(&sim, &input);
-    println!("pencil dress: {} particles, gap {gap} m after {secs} s, max edge strain {strain:.3}", sim.num_particles());
+    println!(
+        "pencil dress: {} particles, gap {gap} m after {secs} s, max edge strain {strain:.3}",
+        sim.num_particles()
+    );
     assert!(gap < 1e-3, "gap {gap} m");
     // A seam sewn in the wrong direction closes only by crossing the pieces over, which
     // stretches edges far beyond this.

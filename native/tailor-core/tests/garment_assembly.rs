@@ -230,9 +230,9 @@ fn bad_stitches_and_pieces_are_errors() {
 }
 
 #[test]
-fn a_piece_whose_internal_line_leaves_it_is_imported_without_lines_and_a_warning() {
+fn an_internal_line_that_leaves_its_piece_is_dropped_with_a_warning() {
     let mut bad = rectangle("panel", 0.3, 0.4);
-    bad.internal_lines = vec![vec![[0.1, 0.1], [0.5, 0.1]]];
+    bad.internal_lines = vec![vec![[0.1, 0.2], [0.2, 0.2]], vec![[0.1, 0.1], [0.5, 0.1]]];
     let pattern = tailor_core::pattern::Pattern {
         source: "synthetic".into(),
         pieces: vec![bad, rectangle("other", 0.2, 0.2)],
@@ -242,10 +242,11 @@ fn a_piece_whose_internal_line_leaves_it_is_imported_without_lines_and_a_warning
     };
     let (g, meshes) = garment_from_pattern(&pattern, &TriangulateOptions::new(0.03)).unwrap();
     assert_eq!(meshes.len(), 2);
-    assert!(g.pieces[0].source.internal_lines.is_empty());
+    // Only the line that leaves the piece is dropped.
+    assert_eq!(g.pieces[0].source.internal_lines, vec![vec![[0.1, 0.2], [0.2, 0.2]]]);
     let w = import_warnings(&g);
     assert_eq!(w.len(), 1);
-    assert!(w[0].contains("panel") && w[0].contains("internal line"), "{w:?}");
+    assert!(w[0].contains("panel") && w[0].contains("[1] of 2 dropped"), "{w:?}");
     // The stored piece rebuilds the same mesh.
     assert_eq!(triangulate_all(&g).unwrap(), meshes);
     // A piece that fails for another reason is still an error.

@@ -4,8 +4,9 @@
 //! Real CAD exports often carry internal lines (grain, mirror or construction lines) that poke
 //! out of the piece or duplicate outline points, which triangulation rightly refuses. Rather
 //! than refusing the whole pattern, a piece that fails *with* internal lines but succeeds
-//! without them is imported without them, and the reason is kept in
-//! `settings["import_warnings"]` (a list of strings) so callers can show it.
+//! without them keeps only the lines that triangulate on their own (each line is tried alone;
+//! if the survivors still fail together, all lines are dropped), and what was dropped and why
+//! is kept in `settings["import_warnings"]` (a list of strings) so callers can show it.
 
 use std::path::Path;
 
@@ -19,25 +20,36 @@ use crate::pattern::{read_pattern, Pattern, Piece, Placement, ReadOptions};
 use crate::seam::SeamMode;
 use crate::triangulate::{triangulate_piece, PieceMesh, TriangulateOptions};
 
-/// Triangulates `piece`; on failure retries without its internal lines. Returns the piece as
-/// meshed, its mesh, and a warning when lines were dropped.
+fn with_lines(piece: &Piece, keep: &[usize]) -> Piece {
+    let mut p = piece.clone();
+    p.internal_lines = keep.iter().map(|&k| piece.internal_lines[k].clone()).collect();
+    p
+}
+
+/// Triangulates `piece`; on failure retries with only the internal lines that triangulate on
+/// their own, then with none. Returns the piece as meshed, its mesh, and a warning when lines
+/// were dropped.
 fn mesh_piece(piece: &Piece, options: &TriangulateOptions) -> Result<(Piece, PieceMesh, Option<String>)> {
-    match triangulate_piece(piece, options) {
-        Ok(m) => Ok((piece.clone(), m, None)),
-        Err(e) if !piece.internal_lines.is_empty() => {
-            let mut bare = piece.clone();
-            bare.internal_lines.clear();
-            match triangulate_piece(&bare, options) {
-                Ok(m) => {
-                    let n = piece.internal_lines.len();
-                    let warning = format!("{e}; imported without its {n} internal line(s)");
-                    Ok((bare, m, Some(warning)))
-                }
-                Err(_) => Err(e),
-            }
+    let e = match triangulate_piece(piece, options) {
+        Ok(m) => return Ok((piece.clone(), m, None)),
+        Err(e) if !piece.internal_lines.is_empty() => e,
+        Err(e) => return Err(e),
+    };
+    let all = piece.internal_lines.len();
+    // Nothing to salvage if the piece fails even without lines.
+    let bare = with_lines(piece, &[]);
+    let bare_mesh = triangulate_piece(&bare, options).map_err(|_| e.clone())?;
+    let good: Vec<usize> = (0..all).filter(|&k| triangulate_piece(&with_lines(piece, &[k]), options).is_ok()).collect();
+    let dropped: Vec<usize> = (0..all).filter(|k| !good.contains(k)).collect();
+    if !good.is_empty() {
+        let kept = with_lines(piece, &good);
+        if let Ok(m) = triangulate_piece(&kept, options) {
+            let warning = format!("{e}; internal line(s) {dropped:?} of {all} dropped");
+            return Ok((kept, m, Some(warning)));
         }
-        Err(e) => Err(e),
     }
+    let warning = format!("{e}; imported without its {all} internal line(s)");
+    Ok((bare, bare_mesh, Some(warning)))
 }
 
 /// Builds a garment from `pattern`, every piece meshed with `options`. Returns the garment and

@@ -179,3 +179,119 @@ def count_self_intersections(vertices: ArrayLike, triangles_: ArrayLike) -> int:
 def edge_strain(positions: ArrayLike, edges: ArrayLike, rest_lengths: ArrayLike) -> dict[str, float]: ...
 def kinetic_energy(velocities: ArrayLike, masses: ArrayLike) -> float: ...
 def max_seam_gap(positions: ArrayLike, pairs_: ArrayLike) -> float: ...
+# Patterns, triangulation, seams and garments.
+
+class Piece:
+    name: str
+    outline: npt.NDArray[np.float64]
+    holes: list[npt.NDArray[np.float64]]
+    internal_lines: list[npt.NDArray[np.float64]]
+    notches: npt.NDArray[np.float64]
+    fixed_vertices: list[int]
+    placement: dict[str, Any] | None
+    edges: list[tuple[int, int]]
+
+class Pattern:
+    source: str
+    pieces: list[Piece]
+    stitches: list[tuple[tuple[int, int], tuple[int, int]]]
+    sizes: list[str]
+    size: str | None
+
+class PieceMesh:
+    name: str
+    edge_length: float
+    rest: F32
+    triangles: npt.NDArray[np.uint32]
+    contour: npt.NDArray[np.uint32]
+    contour_param: npt.NDArray[np.float64]
+    contour_length: float
+    corners: list[int]
+    span_map: list[tuple[int, int]]
+    quality: dict[str, Any]
+    def contour_point(self, i: int) -> tuple[float, float]: ...
+
+class ContourPath:
+    positions: list[int]
+    direction: str
+    def __init__(self, positions: Sequence[int], direction: str = "ccw") -> None: ...
+    def vertices(self, mesh: PieceMesh) -> list[int]: ...
+    def length(self, mesh: PieceMesh) -> float: ...
+
+class Seam:
+    name: str
+    mode: str
+    a: dict[str, Any]
+    b: dict[str, Any]
+    stiffness: float
+    bend_stiffness: float
+    @staticmethod
+    def from_paths(
+        name: str,
+        piece_a: int,
+        mesh_a: PieceMesh,
+        path_a: ContourPath,
+        piece_b: int,
+        mesh_b: PieceMesh,
+        path_b: ContourPath,
+        mode: str = "equal",
+    ) -> Seam: ...
+    def resolve(self, meshes: Sequence[PieceMesh]) -> dict[str, Any]: ...
+
+class Garment:
+    pieces: list[Piece]
+    edge_lengths: list[float]
+    seams: list[Seam]
+    warnings: list[str]
+    @staticmethod
+    def from_pattern(
+        path: str,
+        edge: float = 0.01,
+        size: str | None = None,
+        units: str | None = None,
+        tolerance: float = 0.0005,
+    ) -> Garment: ...
+    @staticmethod
+    def load(path: str) -> Garment: ...
+    def save(self, path: str) -> None: ...
+    def meshes(self) -> list[PieceMesh]: ...
+    def add_seam(self, seam: Seam) -> int: ...
+    def set_resolution(self, piece: int, edge: float) -> PieceMesh: ...
+    def set_bend(
+        self,
+        piece: int,
+        axis_point: Sequence[float],
+        axis_direction: Sequence[float],
+        angle_deg: float,
+        symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
+        threshold: float = 0.0,
+    ) -> None: ...
+    def build_simulation(
+        self,
+        fabric: Fabric | None = None,
+        settings: Settings | None = None,
+        seam_stiffness: float = 1000.0,
+        seam_bend_stiffness: float = 1e-5,
+        gap: float = 0.05,
+    ) -> tuple[Simulation, list[int]]: ...
+
+def read_pattern(
+    path: str, size: str | None = None, units: str | None = None, tolerance: float = 0.0005
+) -> Pattern: ...
+def list_sizes(path: str) -> list[str]: ...
+def triangulate(piece: Piece, edge: float = 0.01) -> PieceMesh: ...
+def nearest_contour_position(mesh: PieceMesh, point: tuple[float, float]) -> int: ...
+def shortest_path(mesh: PieceMesh, start: int, end: int) -> ContourPath: ...
+def candidate_paths(mesh: PieceMesh, b1: int, n: int) -> tuple[ContourPath, ContourPath]: ...
+def nearer_candidate(mesh: PieceMesh, b1: int, n: int, point: tuple[float, float]) -> ContourPath: ...
+def find_corners(mesh: PieceMesh, max_angle_deg: float = 150.0) -> list[int]: ...
+def nearest_corner_segment(mesh: PieceMesh, corners: Sequence[int], point: tuple[float, float]) -> ContourPath: ...
+def bend(
+    positions: ArrayLike,
+    rest: ArrayLike,
+    axis_point: Sequence[float],
+    axis_direction: Sequence[float],
+    angle_deg: float,
+    symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
+    threshold: float = 0.0,
+) -> F32: ...

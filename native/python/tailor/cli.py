@@ -9,9 +9,11 @@ import sys
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="tailor", description="Tailor garment tools (headless).")
     sub = parser.add_subparsers(dest="command", required=True)
-    from tailor.commands import demo
+    from tailor.commands import demo, import_, info
 
     demo.register(sub)
+    import_.register(sub)
+    info.register(sub)
     return parser
 
 

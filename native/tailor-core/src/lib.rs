@@ -16,6 +16,8 @@
 //! * [`bend`]: wrapping a placed piece around an axis before simulation (paper Fig. 4).
 //! * [`placement`]: initial 3D positions from a pattern's placement, or a flat layout.
 //! * [`scenes`]: procedural scenes (rectangles, a sewn tube) for tests, benchmarks and the demo.
+//! * [`garment`]: a pattern assembled into a garment (stitches as seams), and a garment into a
+//!   solver ready to step.
 //! * [`garment_file`]: the versioned garment file (JSON manifest plus binary sidecar).
 //! * [`collision`]: the spatial hash of Nylén et al. 2020 and the collision kernels built on
 //!   it (mesh collider, self-collision pairs, intersection tests, quality metrics).
@@ -27,6 +29,7 @@
 pub mod bend;
 pub mod collision;
 pub mod error;
+pub mod garment;
 pub mod garment_file;
 pub mod io;
 pub mod mesh;

@@ -5,10 +5,14 @@
 //! logic: each function converts its arguments, calls the core, and converts the result.
 
 mod colliders;
+mod contour;
 mod convert;
 mod errors;
+mod garment;
 mod io;
+mod patterns;
 mod scenes;
+mod seams;
 mod settings;
 mod simulation;
 
@@ -31,5 +35,9 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(colliders::edge_strain, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::kinetic_energy, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::max_seam_gap, m)?)?;
+    patterns::register(m)?;
+    contour::register(m)?;
+    m.add_class::<seams::Seam>()?;
+    garment::register(m)?;
     Ok(())
 }

@@ -1,0 +1,39 @@
+"""``tailor import``: a pattern file (DXF, SVG, GarmentCode JSON) becomes a garment file.
+
+Every piece is triangulated at ``--edge`` metres; GarmentCode placements are kept and its
+stitches become seams (equal-count when both sides have the same number of vertices,
+arc-length otherwise). The garment file is ``GARMENT_FILE`` plus a ``.bin`` sidecar. A piece
+whose internal lines stop it from triangulating is imported without them, with a warning on
+standard error.
+"""
+
+from __future__ import annotations
+
+import sys
+
+
+def register(sub):
+    p = sub.add_parser("import", help="triangulate a pattern file into a garment file")
+    p.add_argument("pattern", metavar="PATTERN_FILE", help="DXF, SVG or GarmentCode JSON pattern")
+    p.add_argument("--edge", type=float, default=0.01, metavar="METRES", help="target edge length (default 0.01)")
+    p.add_argument("--size", default=None, help="size to import from a graded pattern (default: the sample size)")
+    p.add_argument("--units", default=None, help="override the file's units (mm, cm, m, inch, ...)")
+    p.add_argument("-o", "--output", required=True, metavar="GARMENT_FILE", help="garment file to write (.json)")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    import tailor
+
+    garment = tailor.Garment.from_pattern(args.pattern, edge=args.edge, size=args.size, units=args.units)
+    garment.save(args.output)
+    for warning in garment.warnings:
+        print(f"tailor import: warning: {warning}", file=sys.stderr)
+    meshes = garment.meshes()
+    vertices = sum(len(m.rest) for m in meshes)
+    triangles = sum(len(m.triangles) for m in meshes)
+    print(
+        f"{args.output}: {len(meshes)} pieces, {vertices} vertices, {triangles} triangles, "
+        f"{len(garment.seams)} seams (edge {args.edge} m)"
+    )
+    return 0

@@ -1,0 +1,225 @@
+//! `tailor.Garment` (a pattern assembled into pieces and seams, saved as a garment file, built
+//! into a `tailor.Simulation`) and `tailor.bend`. Logic lives in `tailor_core::garment`,
+//! `garment_file` and `bend`; this file converts.
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use tailor_core::bend::{bend_piece, BendParams, SymmetryLine};
+use tailor_core::garment::{self as core, BuildOptions};
+use tailor_core::garment_file;
+use tailor_core::triangulate::{PieceMesh as CoreMesh, TriangulateOptions};
+use tailor_core::TailorError;
+
+use crate::convert::{points2, points3};
+use crate::errors::to_py;
+use crate::patterns::{read_options, rows, Piece, PieceMesh};
+use crate::seams::Seam;
+
+/// A garment: pattern pieces with their resolution, placement and bend, and the seams between
+/// them. Meshes are rebuilt from the pieces (triangulation is deterministic) and cached.
+#[pyclass(module = "tailor")]
+pub struct Garment {
+    inner: garment_file::Garment,
+    meshes: Option<Vec<CoreMesh>>,
+}
+
+impl Garment {
+    fn meshes_ref(&mut self, py: Python<'_>) -> PyResult<&Vec<CoreMesh>> {
+        if self.meshes.is_none() {
+            let g = &self.inner;
+            self.meshes = Some(py.detach(|| core::triangulate_all(g)).map_err(to_py)?);
+        }
+        Ok(self.meshes.as_ref().expect("just set"))
+    }
+}
+
+#[pymethods]
+impl Garment {
+    /// Reads a pattern file and triangulates every piece at `edge` metres; GarmentCode
+    /// placements are kept and stitches become seams.
+    #[staticmethod]
+    #[pyo3(signature = (path, edge=0.01, size=None, units=None, tolerance=0.0005))]
+    fn from_pattern(
+        py: Python<'_>,
+        path: PathBuf,
+        edge: f64,
+        size: Option<String>,
+        units: Option<&str>,
+        tolerance: f64,
+    ) -> PyResult<Self> {
+        let read = read_options(size, units, tolerance)?;
+        let (_, inner, meshes) =
+            py.detach(|| core::read_garment(&path, &read, &TriangulateOptions::new(edge))).map_err(to_py)?;
+        Ok(Self { inner, meshes: Some(meshes) })
+    }
+
+    /// Reads a garment file (`NAME.json` with its `NAME.bin` sidecar).
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        Ok(Self { inner: garment_file::load(&path).map_err(to_py)?, meshes: None })
+    }
+
+    /// Writes the garment file (`path`, plus its `.bin` sidecar next to it).
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        garment_file::save(&self.inner, &path).map_err(to_py)
+    }
+
+    /// The source pattern pieces, in garment order.
+    #[getter]
+    fn pieces(&self) -> Vec<Piece> {
+        self.inner.pieces.iter().map(|p| Piece { inner: p.source.clone() }).collect()
+    }
+
+    /// Target edge length of each piece, metres.
+    #[getter]
+    fn edge_lengths(&self) -> Vec<f64> {
+        self.inner.pieces.iter().map(|p| p.options.edge_length).collect()
+    }
+
+    #[getter]
+    fn seams(&self) -> Vec<Seam> {
+        self.inner.seams.iter().map(|s| Seam { inner: s.clone() }).collect()
+    }
+
+    /// The piece meshes at the current resolutions.
+    fn meshes(&mut self, py: Python<'_>) -> PyResult<Vec<PieceMesh>> {
+        Ok(self.meshes_ref(py)?.iter().map(|m| PieceMesh { inner: m.clone() }).collect())
+    }
+
+    /// Adds a seam (checked against the current meshes first). Returns its index.
+    fn add_seam(&mut self, py: Python<'_>, seam: Seam) -> PyResult<usize> {
+        seam.inner.resolve(self.meshes_ref(py)?).map_err(to_py)?;
+        self.inner.seams.push(seam.inner);
+        Ok(self.inner.seams.len() - 1)
+    }
+
+    /// Re-triangulates piece `piece` at `edge` metres and remaps the seams (an equal-count
+    /// seam whose counts no longer match becomes unequal). Returns the piece's new mesh.
+    fn set_resolution(&mut self, py: Python<'_>, piece: usize, edge: f64) -> PyResult<PieceMesh> {
+        let g = &mut self.inner;
+        let meshes = py.detach(|| core::set_resolution(g, piece, edge)).map_err(to_py)?;
+        let out = PieceMesh { inner: meshes[piece].clone() };
+        self.meshes = Some(meshes);
+        Ok(out)
+    }
+
+    /// Bends piece `piece` after placement (see `tailor.bend`); `angle_deg = 0` removes it.
+    #[pyo3(signature = (piece, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0))]
+    fn set_bend(
+        &mut self,
+        piece: usize,
+        axis_point: [f64; 3],
+        axis_direction: [f64; 3],
+        angle_deg: f64,
+        symmetry: Option<([f64; 2], [f64; 2])>,
+        threshold: f64,
+    ) -> PyResult<()> {
+        let n = self.inner.pieces.len();
+        let p =
+            self.inner.pieces.get_mut(piece).ok_or_else(|| {
+                to_py(TailorError::setting("piece", piece, format!("must be a piece index below {n}")))
+            })?;
+        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
+        p.bend = if angle_deg == 0.0 { None } else { Some(params) };
+        Ok(())
+    }
+
+    /// Warnings recorded at import (for example internal lines that had to be dropped).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        core::import_warnings(&self.inner)
+    }
+
+    /// Builds the sewn cloth and a `tailor.Simulation` with every seam added. Returns
+    /// `(simulation, offsets)`: `offsets[i]` is the index of piece `i`'s first particle.
+    /// Each seam's spring constant is `seam_stiffness` (N/m) times its own stiffness factor;
+    /// pieces without a placement are laid side by side `gap` metres apart.
+    #[pyo3(signature = (fabric=None, settings=None, seam_stiffness=1000.0, seam_bend_stiffness=1e-5, gap=0.05))]
+    fn build_simulation<'py>(
+        &mut self,
+        py: Python<'py>,
+        fabric: Option<Bound<'py, PyAny>>,
+        settings: Option<Bound<'py, PyAny>>,
+        seam_stiffness: f32,
+        seam_bend_stiffness: f32,
+        gap: f64,
+    ) -> PyResult<(Bound<'py, PyAny>, Vec<u32>)> {
+        let meshes = self.meshes_ref(py)?.clone();
+        let g = &self.inner;
+        let options = BuildOptions { gap, seam_stiffness, seam_bend_stiffness };
+        let input = py.detach(|| core::solver_input(g, meshes, &options)).map_err(to_py)?;
+        let m = &input.sewn.mesh;
+        let sim = py.get_type::<crate::simulation::Simulation>().call1((
+            rows(py, m.positions())?,
+            rows(py, m.triangles())?,
+            rows(py, m.rest())?,
+            fabric,
+            settings,
+        ))?;
+        for s in &input.seams {
+            let v: Vec<[[u32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.verts, p.1.verts]).collect();
+            let w: Vec<[[f32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.weights, p.1.weights]).collect();
+            sim.call_method1(
+                "add_weighted_seam",
+                (
+                    rows(py, &v.iter().map(|x| x[0]).collect::<Vec<_>>())?,
+                    rows(py, &w.iter().map(|x| x[0]).collect::<Vec<_>>())?,
+                    rows(py, &v.iter().map(|x| x[1]).collect::<Vec<_>>())?,
+                    rows(py, &w.iter().map(|x| x[1]).collect::<Vec<_>>())?,
+                    s.stiffness,
+                    s.bend_stiffness,
+                    s.name.as_str(),
+                ),
+            )?;
+        }
+        Ok((sim, input.sewn.offsets.clone()))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Garment({} pieces, {} seams)", self.inner.pieces.len(), self.inner.seams.len())
+    }
+}
+
+fn bend_params(
+    axis_point: [f64; 3],
+    axis_direction: [f64; 3],
+    angle_deg: f64,
+    symmetry: Option<([f64; 2], [f64; 2])>,
+    threshold: f64,
+) -> BendParams {
+    BendParams {
+        axis_point,
+        axis_direction,
+        angle_deg,
+        symmetry: symmetry.map(|(point, direction)| SymmetryLine { point, direction }),
+        threshold,
+    }
+}
+
+/// Bends a placed piece around an axis (paper Fig. 4); returns the new (n, 3) positions.
+/// `symmetry` = ((x, y), (dx, dy)), a rest-frame line whose sides bend in opposite senses.
+#[pyfunction]
+#[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0))]
+#[allow(clippy::too_many_arguments)]
+pub fn bend<'py>(
+    py: Python<'py>,
+    positions: &Bound<'py, PyAny>,
+    rest: &Bound<'py, PyAny>,
+    axis_point: [f64; 3],
+    axis_direction: [f64; 3],
+    angle_deg: f64,
+    symmetry: Option<([f64; 2], [f64; 2])>,
+    threshold: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut p = points3(positions, "positions")?;
+    let r = points2(rest, "rest")?;
+    let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
+    bend_piece(&mut p, &r, &params).map_err(to_py)?;
+    rows(py, &p)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Garment>()?;
+    m.add_function(wrap_pyfunction!(bend, m)?)
+}

@@ -1,0 +1,134 @@
+//! `tailor.Seam`: the resolution-independent seam of `tailor_core::seam::model`, created from
+//! picked contour paths and resolved against the current piece meshes.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use tailor_core::seam::{self as core, SeamMode};
+use tailor_core::TailorError;
+
+use crate::contour::{direction_name, ContourPath};
+use crate::errors::to_py;
+use crate::patterns::{rows, PieceMesh};
+
+pub fn mode_name(m: SeamMode) -> &'static str {
+    match m {
+        SeamMode::Equal => "equal",
+        SeamMode::Unequal => "unequal",
+    }
+}
+
+fn parse_mode(s: &str) -> PyResult<SeamMode> {
+    match s {
+        "equal" => Ok(SeamMode::Equal),
+        "unequal" => Ok(SeamMode::Unequal),
+        _ => Err(to_py(TailorError::setting("mode", s, "must be \"equal\" or \"unequal\""))),
+    }
+}
+
+fn meshes_of(meshes: &[PieceMesh]) -> Vec<tailor_core::triangulate::PieceMesh> {
+    meshes.iter().map(|m| m.inner.clone()).collect()
+}
+
+/// A seam between two contour runs, stored by endpoint rest positions (it survives a change
+/// of resolution). `mode`: "equal" (one-to-one) or "unequal" (arc-length pairing).
+#[pyclass(module = "tailor", frozen, from_py_object)]
+#[derive(Clone)]
+pub struct Seam {
+    pub inner: core::Seam,
+}
+
+fn side_dict<'py>(py: Python<'py>, s: &core::SeamSide) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("piece", s.piece)?;
+    d.set_item("start", s.start.to_vec())?;
+    d.set_item("end", s.end.to_vec())?;
+    d.set_item("direction", direction_name(s.direction))?;
+    Ok(d)
+}
+
+#[pymethods]
+impl Seam {
+    /// A validated seam from two picked paths (`piece_a`, `piece_b`: indices of the pieces in
+    /// the list later passed to `resolve`).
+    #[staticmethod]
+    #[pyo3(signature = (name, piece_a, mesh_a, path_a, piece_b, mesh_b, path_b, mode="equal"))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_paths(
+        name: &str,
+        piece_a: usize,
+        mesh_a: &PieceMesh,
+        path_a: &ContourPath,
+        piece_b: usize,
+        mesh_b: &PieceMesh,
+        path_b: &ContourPath,
+        mode: &str,
+    ) -> PyResult<Self> {
+        let mode = parse_mode(mode)?;
+        let inner = core::Seam::from_paths(
+            name,
+            piece_a,
+            &mesh_a.inner,
+            &path_a.inner,
+            piece_b,
+            &mesh_b.inner,
+            &path_b.inner,
+            mode,
+        )
+        .map_err(to_py)?;
+        Ok(Self { inner })
+    }
+    #[getter]
+    fn name(&self) -> &str {
+        &self.inner.name
+    }
+    #[getter]
+    fn mode(&self) -> &'static str {
+        mode_name(self.inner.mode)
+    }
+    /// Side A: {"piece", "start", "end", "direction"} (rest positions, metres).
+    #[getter]
+    fn a<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        side_dict(py, &self.inner.a)
+    }
+    #[getter]
+    fn b<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        side_dict(py, &self.inner.b)
+    }
+    /// Factors on the solver's seam stiffness and seam bending stiffness.
+    #[getter]
+    fn stiffness(&self) -> f32 {
+        self.inner.stiffness
+    }
+    #[getter]
+    fn bend_stiffness(&self) -> f32 {
+        self.inner.bend_stiffness
+    }
+    /// Resolves (or remaps) the seam on `meshes` (indexed by piece). Returns a dict: `a`, `b`
+    /// (ContourPath), `a_vertices`, `b_vertices` (piece-local indices), `mode`,
+    /// `length_ratio`, and the sewn pairs as (p, 2) arrays `pair_a_vertices`,
+    /// `pair_a_weights`, `pair_b_vertices`, `pair_b_weights` (piece-local; each row a point
+    /// as two weighted vertices, as `Simulation.add_weighted_seam` takes them).
+    fn resolve<'py>(&self, py: Python<'py>, meshes: Vec<PieceMesh>) -> PyResult<Bound<'py, PyDict>> {
+        let meshes = meshes_of(&meshes);
+        let r = self.inner.resolve(&meshes).map_err(to_py)?;
+        let (ma, mb) = (&meshes[r.piece_a], &meshes[r.piece_b]);
+        let pairs = r.pairs(ma, mb).map_err(to_py)?;
+        let d = PyDict::new(py);
+        d.set_item("a_vertices", r.a.vertices(ma))?;
+        d.set_item("b_vertices", r.b.vertices(mb))?;
+        d.set_item("mode", mode_name(r.mode))?;
+        d.set_item("length_ratio", r.length_ratio)?;
+        let v = |p: &core::WeightedPoint| [p[0].0, p[1].0];
+        let w = |p: &core::WeightedPoint| [p[0].1, p[1].1];
+        d.set_item("pair_a_vertices", rows(py, &pairs.iter().map(|p| v(&p.a)).collect::<Vec<_>>())?)?;
+        d.set_item("pair_a_weights", rows(py, &pairs.iter().map(|p| w(&p.a)).collect::<Vec<_>>())?)?;
+        d.set_item("pair_b_vertices", rows(py, &pairs.iter().map(|p| v(&p.b)).collect::<Vec<_>>())?)?;
+        d.set_item("pair_b_weights", rows(py, &pairs.iter().map(|p| w(&p.b)).collect::<Vec<_>>())?)?;
+        d.set_item("a", ContourPath { inner: r.a })?;
+        d.set_item("b", ContourPath { inner: r.b })?;
+        Ok(d)
+    }
+    fn __repr__(&self) -> String {
+        format!("Seam({:?}, mode={:?})", self.inner.name, mode_name(self.inner.mode))
+    }
+}

@@ -1,0 +1,76 @@
+"""`python -m tailor import` and `info`: pattern file -> garment file -> JSON description."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "native/tailor-core/tests/data"
+SHARED = ROOT.parent / "shared/data/patterns"
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "tailor", *map(str, args)], capture_output=True, text=True)
+
+
+def import_and_describe(pattern, out, *extra):
+    r = run("import", pattern, *extra, "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert Path(out).exists() and Path(out).with_suffix(".bin").exists()
+    r = run("info", out, "--json")
+    assert r.returncode == 0, r.stderr
+    info = json.loads(r.stdout)
+    assert info["pieces"], info
+    for p in info["pieces"]:
+        assert set(p) >= {"name", "vertices", "triangles", "outline_length_m", "min_angle_deg"}
+        assert p["vertices"] > 3 and p["triangles"] > 0 and p["outline_length_m"] > 0
+        assert p["min_angle_deg"] > 20
+    for s in info["seams"]:
+        assert set(s) >= {"a", "b", "pairs", "mode"} and s["mode"] in ("equal", "unequal")
+        assert s["pairs"] >= 2
+    return info
+
+
+def test_garmentcode_import_info_round_trip(tmp_path):
+    info = import_and_describe(DATA / "garmentcode/flare_skirt_specification.json", tmp_path / "skirt.json",
+                               "--edge", "0.03")
+    names = {p["name"] for p in info["pieces"]}
+    assert len(info["seams"]) > 0 and all(s["a"] in names and s["b"] in names for s in info["seams"])
+    text = run("info", tmp_path / "skirt.json")
+    assert text.returncode == 0 and "seams" in text.stdout
+
+
+def test_svg_import_info_round_trip(tmp_path):
+    info = import_and_describe(DATA / "svg/skirt_two_panels.svg", tmp_path / "svg.json", "--edge", "0.02")
+    assert len(info["pieces"]) == 2 and info["seams"] == []
+
+
+def test_dxf_import_info_round_trip(tmp_path):
+    dxf = SHARED / "astm-parser-dxf/WM_SLIM_TANK.DXF"
+    if not dxf.exists():
+        pytest.skip("shared pattern data not present")
+    sizes = run("info", dxf, "--sizes", "--json")
+    assert sizes.returncode == 0, sizes.stderr
+    listed = json.loads(sizes.stdout)["sizes"]
+    extra = ["--size", listed[0]] if listed else []
+    info = import_and_describe(dxf, tmp_path / "tank.json", "--edge", "0.03", *extra)
+    assert len(info["pieces"]) >= 2
+
+
+def test_bad_files_fail_with_the_file_named(tmp_path):
+    missing = tmp_path / "missing.dxf"
+    r = run("import", missing, "-o", tmp_path / "x.json")
+    assert r.returncode != 0 and "missing.dxf" in r.stderr and "Traceback" not in r.stderr
+    junk = tmp_path / "junk.json"
+    junk.write_text("{ not json")
+    r = run("import", junk, "-o", tmp_path / "y.json")
+    assert r.returncode != 0 and "junk.json" in r.stderr and "Traceback" not in r.stderr
+    r = run("info", junk, "--json")
+    assert r.returncode != 0 and "junk.json" in r.stderr and "Traceback" not in r.stderr
+    r = run("info", tmp_path / "nothing.json")
+    assert r.returncode != 0 and "nothing.json" in r.stderr
+    r = run("import", DATA / "svg/skirt_two_panels.svg", "--edge", "-1", "-o", tmp_path / "z.json")
+    assert r.returncode != 0 and "edge" in r.stderr

@@ -1,0 +1,159 @@
+"""Patterns, triangulation, contour picking, seams, bend and garments through the Python API."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tailor
+
+DATA = Path(__file__).resolve().parents[1] / "native/tailor-core/tests/data"
+SHIRT = DATA / "garmentcode/shirt_mean_specification.json"
+SKIRT = DATA / "garmentcode/flare_skirt_specification.json"
+
+
+def test_read_pattern_garmentcode():
+    p = tailor.read_pattern(str(SHIRT))
+    assert len(p.pieces) == 8 and len(p.stitches) == 18
+    piece = p.pieces[0]
+    assert piece.name == "right_sleeve_b"
+    assert piece.outline.ndim == 2 and piece.outline.shape[1] == 2 and piece.outline.dtype == np.float64
+    assert set(piece.placement) == {"translation", "rotation_deg", "flipped"}
+    assert all(0 <= s < len(piece.outline) and 0 <= e < len(piece.outline) for s, e in piece.edges)
+    (pa, ea), (pb, eb) = p.stitches[0]
+    assert ea < len(p.pieces[pa].edges) and eb < len(p.pieces[pb].edges)
+    assert tailor.list_sizes(str(SHIRT)) == []
+
+
+def test_triangulate_and_quality():
+    piece = tailor.read_pattern(str(SKIRT)).pieces[0]
+    m = tailor.triangulate(piece, edge=0.03)
+    assert m.rest.shape[1] == 2 and m.rest.dtype == np.float32
+    assert m.triangles.shape[1] == 3 and m.triangles.max() < len(m.rest)
+    assert m.quality["vertices"] == len(m.rest) and m.quality["min_angle_deg"] > 20
+    assert len(m.contour) == len(m.contour_param) and m.contour_length > 0
+    assert m.corners == sorted(m.corners)
+    with pytest.raises(tailor.InvalidParameterError):
+        tailor.triangulate(piece, edge=-1.0)
+
+
+def test_five_steps_and_seam_resolution_through_python():
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.03)
+    meshes = g.meshes()
+    for seam in g.seams:
+        r = seam.resolve(meshes)
+        ma, mb = meshes[seam.a["piece"]], meshes[seam.b["piece"]]
+        long_enough = len(r["a_vertices"]) >= 4 and 2 * r["a"].length(ma) < ma.contour_length
+        if seam.mode == "equal" and seam.a["piece"] != seam.b["piece"] and long_enough:
+            break
+    else:
+        pytest.fail("no equal-count stitch")
+    off = np.array([0.004, -0.003])
+    a1 = tailor.nearest_contour_position(ma, tuple(np.add(seam.a["start"], off)))
+    path_a = tailor.shortest_path(ma, a1, tailor.nearest_contour_position(ma, tuple(np.add(seam.a["end"], off))))
+    b1 = tailor.nearest_contour_position(mb, tuple(np.add(seam.b["start"], off)))
+    path_b = tailor.nearer_candidate(mb, b1, len(path_a), tuple(np.add(seam.b["end"], off)))
+    assert path_b in tailor.candidate_paths(mb, b1, len(path_a))
+    picked = tailor.Seam.from_paths("picked", seam.a["piece"], ma, path_a, seam.b["piece"], mb, path_b)
+    rp = picked.resolve(meshes)
+    assert rp["a_vertices"] == r["a_vertices"] and rp["b_vertices"] == r["b_vertices"]
+    assert rp["mode"] == "equal" and rp["pair_a_vertices"].shape == (len(path_a), 2)
+    assert np.allclose(rp["pair_a_weights"].sum(axis=1), 1.0)
+    # A side of another length cannot be sewn one-to-one.
+    short = tailor.ContourPath(path_b.positions[:-1], path_b.direction)
+    with pytest.raises(tailor.SeamError):
+        tailor.Seam.from_paths("bad", seam.a["piece"], ma, path_a, seam.b["piece"], mb, short)
+    corners = tailor.find_corners(ma, 150.0)
+    seg = tailor.nearest_corner_segment(ma, corners, tuple(ma.contour_point(corners[0] + 1)))
+    assert seg.positions[0] in corners and seg.positions[-1] in corners
+
+
+def test_set_resolution_keeps_seam_endpoints_within_one_edge():
+    g = tailor.Garment.from_pattern(str(SKIRT), edge=0.03)
+    old = g.meshes()
+    before = [s.resolve(old) for s in g.seams]
+    piece = g.seams[0].a["piece"]
+    new_mesh = g.set_resolution(piece, 0.02)
+    assert g.edge_lengths[piece] == pytest.approx(0.02) and len(new_mesh.rest) > len(old[piece].rest)
+    new = g.meshes()
+    modes = set()
+    for s, b in zip(g.seams, before):
+        r = s.resolve(new)
+        modes.add(r["mode"])
+        for side, key in (("a", "a_vertices"), ("b", "b_vertices")):
+            p = s.a["piece"] if side == "a" else s.b["piece"]
+            for k in (0, -1):
+                q_old = old[p].rest[b[key][k]]
+                q_new = new[p].rest[r[key][k]]
+                assert np.linalg.norm(q_old - q_new) <= max(old[p].edge_length, new[p].edge_length)
+    assert "unequal" in modes
+    with pytest.raises(tailor.InvalidParameterError):
+        g.set_resolution(99, 0.02)
+    with pytest.raises(tailor.InvalidParameterError):
+        g.set_resolution(piece, float("nan"))
+    assert g.edge_lengths[piece] == pytest.approx(0.02)
+
+
+def test_garmentcode_skirt_closes_in_the_solver_with_unequal_seams():
+    g = tailor.Garment.from_pattern(str(SKIRT), edge=0.03)
+    g.set_resolution(0, 0.022)  # some seams now join different vertex counts
+    assert any(s.mode == "unequal" for s in g.seams)
+    # 10⁴ N/m seams: at the default 10³ N/m the eased waistband seam (9 % longer than the
+    # skirt's top edge) settles around 1.0-1.4 mm.
+    no_gravity = tailor.Settings(gravity=(0.0, 0.0, 0.0))
+    sim, offsets = g.build_simulation(settings=no_gravity, seam_stiffness=1e4)
+    assert offsets[0] == 0 and len(offsets) == len(g.pieces)
+    assert sim.num_particles == sum(len(m.rest) for m in g.meshes())
+    gap0 = sim.seam_gaps()[0]
+    for _ in range(90):
+        sim.step(1.0 / 30.0)
+        if sim.seam_gaps()[0] < 1e-3:
+            break
+    assert np.isfinite(sim.positions).all()
+    assert sim.seam_gaps()[0] < 1e-3 < gap0
+    sim.step(1.0 / 30.0, frames=30)
+    assert np.isfinite(sim.positions).all() and sim.seam_gaps()[0] < 2e-3, "the seams stay closed"
+
+
+def test_garment_file_round_trip(tmp_path):
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.04)
+    g.set_resolution(1, 0.03)
+    g.set_bend(0, (0.0, 1.4, 0.0), (1.0, 0.0, 0.0), 30.0)
+    path = tmp_path / "shirt.json"
+    g.save(str(path))
+    assert path.exists() and path.with_suffix(".bin").exists()
+    h = tailor.Garment.load(str(path))
+    assert [p.name for p in h.pieces] == [p.name for p in g.pieces]
+    assert h.edge_lengths == g.edge_lengths
+    assert [(s.name, s.mode, s.a, s.b) for s in h.seams] == [(s.name, s.mode, s.a, s.b) for s in g.seams]
+    for m, n in zip(g.meshes(), h.meshes()):
+        assert np.array_equal(m.rest, n.rest) and np.array_equal(m.triangles, n.triangles)
+    sa, _ = g.build_simulation()
+    sb, _ = h.build_simulation()
+    assert np.array_equal(sa.positions, sb.positions)
+
+
+def test_bend_round_trip():
+    piece = tailor.read_pattern(str(SKIRT)).pieces[0]
+    m = tailor.triangulate(piece, edge=0.05)
+    pos = np.concatenate([m.rest, np.zeros((len(m.rest), 1), np.float32)], axis=1)
+    bent = tailor.bend(pos, m.rest, (0.0, 0.0, -0.1), (0.0, 1.0, 0.0), 90.0, symmetry=((0.0, 0.0), (0.0, 1.0)))
+    assert bent.shape == pos.shape and not np.allclose(bent, pos)
+    back = tailor.bend(bent, m.rest, (0.0, 0.0, -0.1), (0.0, 1.0, 0.0), -90.0, symmetry=((0.0, 0.0), (0.0, 1.0)))
+    assert np.allclose(back, pos, atol=1e-5)
+    with pytest.raises(tailor.InvalidParameterError):
+        tailor.bend(pos, m.rest, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 10.0)
+
+
+def test_file_errors_are_typed_and_name_the_file(tmp_path):
+    missing = tmp_path / "nope.dxf"
+    with pytest.raises(tailor.TailorIOError, match="nope.dxf"):
+        tailor.read_pattern(str(missing))
+    with pytest.raises(tailor.TailorIOError, match="nope.json"):
+        tailor.Garment.load(str(tmp_path / "nope.json"))
+    junk = tmp_path / "junk.svg"
+    junk.write_text("<svg but not really")
+    with pytest.raises(tailor.PatternError, match="junk.svg"):
+        tailor.read_pattern(str(junk))
+    with pytest.raises(tailor.InvalidParameterError):
+        tailor.read_pattern(str(SHIRT), units="furlongs")

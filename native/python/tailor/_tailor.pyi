@@ -48,6 +48,7 @@ class Settings:
     ramp_gap_threshold: float
     ramp_closed_fraction: float
     ramp_release_time: float
+    ramp_closing_speed: float
     chebyshev_rho: float | None
     colouring_seed: int
     def __init__(self, **kwargs: Any) -> None: ...

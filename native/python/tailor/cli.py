@@ -9,11 +9,12 @@ import sys
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="tailor", description="Tailor garment tools (headless).")
     sub = parser.add_subparsers(dest="command", required=True)
-    from tailor.commands import demo, import_, info
+    from tailor.commands import demo, import_, info, simulate
 
     demo.register(sub)
     import_.register(sub)
     info.register(sub)
+    simulate.register(sub)
     return parser
 
 

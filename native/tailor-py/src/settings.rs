@@ -63,6 +63,8 @@ pub struct Settings {
     pub ramp_gap_threshold: f32,
     pub ramp_closed_fraction: f32,
     pub ramp_release_time: f32,
+    /// Speed at which sewn points are drawn together, m/s (0 = at once).
+    pub ramp_closing_speed: f32,
     /// Fixed Chebyshev spectral radius; None = measured automatically.
     pub chebyshev_rho: Option<f32>,
     pub colouring_seed: u64,
@@ -109,6 +111,7 @@ impl From<&core::SolverSettings> for Settings {
             ramp_gap_threshold: s.ramp.gap_threshold,
             ramp_closed_fraction: s.ramp.closed_fraction,
             ramp_release_time: s.ramp.release_time,
+            ramp_closing_speed: s.ramp.closing_speed,
             chebyshev_rho: s.chebyshev.rho,
             colouring_seed: s.colouring_seed,
         }
@@ -131,6 +134,7 @@ impl Settings {
                 gap_threshold: self.ramp_gap_threshold,
                 closed_fraction: self.ramp_closed_fraction,
                 release_time: self.ramp_release_time,
+                closing_speed: self.ramp_closing_speed,
             },
             chebyshev: core::ChebyshevSettings { rho: self.chebyshev_rho, ..d.chebyshev },
             colouring_seed: self.colouring_seed,

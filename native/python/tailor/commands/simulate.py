@@ -37,7 +37,7 @@ def register(sub):
     p.add_argument("--substeps", type=int, default=8)
     p.add_argument("--iterations", type=int, default=15)
     p.add_argument("--thickness", type=float, default=0.004, help="collision thickness, metres")
-    p.add_argument("--no-self-collision", action="store_true")
+    p.add_argument("--self-collision", action="store_true", help="turn on cloth self-collision (layered garments)")
     p.set_defaults(run=run)
 
 
@@ -90,7 +90,7 @@ def run(args):
     settings = tailor.Settings(substeps=args.substeps, iterations=args.iterations, gravity=gravity)
     sim, _offsets = garment.build_simulation(settings=settings)
     sim.thickness = args.thickness
-    sim.set_self_collision(enabled=not args.no_self_collision)
+    sim.set_self_collision(enabled=args.self_collision)
     motion = ColliderMotion(args.collider, args.collider_anim, args.fps)
     cid = sim.add_mesh_collider(motion.at(0), motion.triangles)
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "

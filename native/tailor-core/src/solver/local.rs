@@ -53,7 +53,7 @@ pub(crate) fn project_all(model: &Model, x: &Vec3Soa, slots: &mut [Vec3A]) {
         rest = tail;
     }
     runs.into_par_iter().with_min_len(256).for_each(|(out, (set_id, s))| {
-        let set = if set_id == 0 { &model.bending } else { &model.seam_hinges };
+        let set = model.stencil_set(set_id);
         let s = s as usize;
         let v = set.vector(s, x);
         let p = stencil::project(v, set.rest[s]) * set.weights[s];

@@ -21,7 +21,8 @@ use super::system::{SparseSym, SparseSym32};
 /// slot per term after those. Each particle sums its slots (compressed rows).
 #[derive(Debug, Clone, Default)]
 pub struct SlotLayout {
-    /// `(set, stencil)` of each curved stencil: set 0 = bending, 1 = seam hinges.
+    /// `(set, stencil)` of each curved stencil: set 0 = bending, 1 = seam hinges, 2 = seam pairs
+    /// still closing (see [`Model::stencil_set`]).
     pub curved: Vec<(u8, u32)>,
     pub curved_base: Vec<u32>,
     pub total: usize,
@@ -353,6 +354,15 @@ impl Model {
         )
     }
 
+    /// The stencil set with a slot-layout id (0 bending, 1 seam hinges, 2 seam pairs).
+    pub fn stencil_set(&self, id: u8) -> &StencilSet {
+        match id {
+            0 => &self.bending,
+            1 => &self.seam_hinges,
+            _ => &self.seam_pairs,
+        }
+    }
+
     /// Rebuilds the matrix, colouring and slot layout if anything changed.
     pub fn rebuild_if_dirty(&mut self, seed: u64) {
         if !self.dirty {
@@ -380,7 +390,7 @@ impl Model {
         let mut curved = Vec::new();
         let mut curved_base = Vec::new();
         let mut total = 3 * self.triangles.len();
-        for (set_id, set) in [(0u8, &self.bending), (1u8, &self.seam_hinges)] {
+        for (set_id, set) in [(0u8, &self.bending), (1u8, &self.seam_hinges), (2u8, &self.seam_pairs)] {
             for s in 0..set.len() {
                 if set.rest[s] != 0.0 {
                     curved.push((set_id, s as u32));
@@ -395,7 +405,7 @@ impl Model {
             owner[3 * t..3 * t + 3].copy_from_slice(v);
         }
         for (c, &(set_id, s)) in curved.iter().enumerate() {
-            let set = if set_id == 0 { &self.bending } else { &self.seam_hinges };
+            let set = self.stencil_set(set_id);
             for (k, t) in set.range(s as usize).enumerate() {
                 owner[curved_base[c] as usize + k] = set.verts[t];
             }

@@ -60,6 +60,8 @@ pub struct Simulation {
     cheb: Chebyshev,
     free: Vec<u32>,
     pub(crate) h_prepared: f32,
+    /// Some seam pair still has a non-zero closing rest length.
+    seams_closing: bool,
     time: f64,
 }
 
@@ -112,6 +114,7 @@ impl Simulation {
             cheb: Chebyshev::default(),
             free: Vec::new(),
             h_prepared: 0.0,
+            seams_closing: false,
             time: 0.0,
         })
     }
@@ -218,7 +221,17 @@ impl Simulation {
 
     /// Adds a seam; the seam-closing ramp starts again. Returns the hinges created.
     pub fn add_seam(&mut self, seam: Seam) -> Result<usize> {
+        let first = self.model.seam_pairs.len();
         let hinges = self.model.add_seam(seam)?;
+        if self.settings.ramp.enabled && self.settings.ramp.closing_speed > 0.0 {
+            // Start each pair at its current gap; `close_seams` shrinks it every substep.
+            let pairs = &mut self.model.seam_pairs;
+            for s in first..pairs.len() {
+                let gap = pairs.vector(s, &self.x).length();
+                pairs.rest[s] = if gap > super::constraints::stencil::FLAT_REST { gap } else { 0.0 };
+                self.seams_closing |= pairs.rest[s] > 0.0;
+            }
+        }
         self.collide.invalidate_topology();
         self.ramp = Ramp::default();
         Ok(hinges)
@@ -409,7 +422,26 @@ impl Simulation {
     }
 
     /// Prediction stage: `y`, pins, initial guess, fixed right-hand side.
+    /// Shrinks the rest length of seam pairs that are still closing by `closing_speed·h`
+    /// (never above the current gap, so a pair that closed faster is not pushed apart).
+    fn close_seams(&mut self, h: f32) {
+        let step = if self.settings.ramp.enabled { self.settings.ramp.closing_speed * h } else { f32::INFINITY };
+        let pairs = &mut self.model.seam_pairs;
+        let mut open = false;
+        for s in 0..pairs.len() {
+            if pairs.rest[s] > 0.0 {
+                let gap = pairs.vector(s, &self.x).length();
+                pairs.rest[s] = (pairs.rest[s].min(gap) - step).max(0.0);
+                open |= pairs.rest[s] > 0.0;
+            }
+        }
+        self.seams_closing = open;
+    }
+
     pub(crate) fn predict(&mut self, h: f32) {
+        if self.seams_closing {
+            self.close_seams(h);
+        }
         let g = Vec3::from(self.settings.gravity);
         let inv_h2 = 1.0 / (h * h);
         self.x_start.copy_from(&self.x);

@@ -37,10 +37,10 @@ const RHO_SWEEPS: u32 = 60;
 pub struct Simulation {
     pub(crate) model: Model,
     pub(crate) settings: SolverSettings,
-    colliders: Vec<ImplicitCollider>,
-    thickness: f32,
+    pub(crate) colliders: Vec<ImplicitCollider>,
+    pub(crate) thickness: f32,
     pub(crate) x: Vec3Soa,
-    v: Vec3Soa,
+    pub(crate) v: Vec3Soa,
     x_start: Vec3Soa,
     pub(crate) y: Vec3Soa,
     x_prev_iter: Vec3Soa,
@@ -49,12 +49,12 @@ pub struct Simulation {
     pub(crate) diag: Vec<f32>,
     pub(crate) slots: Vec<Vec3>,
     pub(crate) contacts: ContactSet,
-    pin_target: Vec3Soa,
-    ramp: Ramp,
-    cheb: Chebyshev,
+    pub(crate) pin_target: Vec3Soa,
+    pub(crate) ramp: Ramp,
+    pub(crate) cheb: Chebyshev,
     free: Vec<u32>,
     pub(crate) h_prepared: f32,
-    time: f64,
+    pub(crate) time: f64,
 }
 
 /// A snapshot of the moving state.

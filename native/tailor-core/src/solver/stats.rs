@@ -28,6 +28,14 @@ impl StageTimings {
     }
 }
 
+/// Which backend ran a step.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum ActiveBackend {
+    #[default]
+    Cpu,
+    Gpu,
+}
+
 /// Statistics of one call to `Simulation::step`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StepStats {
@@ -50,4 +58,8 @@ pub struct StepStats {
     pub seam_closed_fraction: f32,
     /// Particles in contact with a collider at the end of the step.
     pub contacts: usize,
+    /// The backend that ran the step.
+    pub backend: ActiveBackend,
+    /// Why a requested GPU backend is not in use (no adapter, unsupported feature), if so.
+    pub warning: Option<String>,
 }

@@ -1,0 +1,81 @@
+// Declarations shared by every Tailor compute shader (prepended to each one).
+// Mirrored by `common.rs`: keep the field order and padding identical.
+
+struct Params {
+    gravity: vec3<f32>,
+    h: f32,
+    inv_h: f32,
+    inv_h2: f32,
+    rho: f32,
+    n: u32,
+    n_tris: u32,
+    n_seam_pairs: u32,
+    delay: u32,
+    ramp_enabled: u32,
+    air_damping: f32,
+    closing_damping: f32,
+    gap_threshold: f32,
+    closed_fraction: f32,
+    release_time: f32,
+    has_seams: u32,
+    // Section bases in the packed index buffer `idx`.
+    mat_off: u32,
+    mat_cols: u32,
+    slot_off: u32,
+    slot_idx: u32,
+    tri_verts: u32,
+    seam_off: u32,
+    seam_verts: u32,
+    order: u32,
+    // Section bases in the packed float buffer `fdata`.
+    mat_vals: u32,
+    diag: u32,
+    tri_data: u32,
+    seam_coefs: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// Per-substep iteration state and the seam-closing ramp, owned by the GPU.
+struct StepState {
+    omega: f32,
+    last_delta: f32,
+    started: u32,
+    k: u32,
+    r0: f32,
+    residual: f32,
+    phase: u32,
+    elapsed: f32,
+    gap_max: f32,
+    closed_fraction: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+const PHASE_CLOSING: u32 = 0u;
+const PHASE_RELEASING: u32 = 1u;
+const PHASE_DONE: u32 = 2u;
+// WGSL has no infinity literal; the largest f32 compares the same way here.
+const F32_MAX: f32 = 3.40282347e38;
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read_write> state: StepState;
+
+// Air damping in effect for a ramp phase, 1/s (port of `damping::Ramp::damping`).
+fn ramp_damping(phase: u32, elapsed: f32) -> f32 {
+    if (params.ramp_enabled == 0u) {
+        return params.air_damping;
+    }
+    let high = max(params.closing_damping, params.air_damping);
+    if (phase == PHASE_CLOSING) {
+        return high;
+    }
+    if (phase == PHASE_RELEASING) {
+        var t = 1.0;
+        if (params.release_time > 0.0) {
+            t = min(elapsed / params.release_time, 1.0);
+        }
+        return high + (params.air_damping - high) * t;
+    }
+    return params.air_damping;
+}

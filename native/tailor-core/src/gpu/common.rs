@@ -10,7 +10,7 @@ pub const PHASE_CLOSING: u32 = 0;
 pub const PHASE_RELEASING: u32 = 1;
 pub const PHASE_DONE: u32 = 2;
 
-/// Mirror of WGSL `Params` (uniform; 128 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
+/// Mirror of WGSL `Params` (uniform; 144 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
 /// 12 bytes) followed by `h`, so no padding is needed there; the size is a multiple of 16.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -43,8 +43,12 @@ pub struct Params {
     pub diag: u32,
     pub tri_data: u32,
     pub seam_coefs: u32,
+    pub n_curved: u32,
+    pub curved_off: u32,
+    pub curved_verts: u32,
+    pub curved_coefs: u32,
+    pub curved_wr: u32,
     pub _pad0: u32,
-    pub _pad1: u32,
 }
 
 /// Mirror of WGSL `StepState` (storage; 48 bytes, explicit tail padding).

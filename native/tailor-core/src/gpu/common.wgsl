@@ -32,8 +32,14 @@ struct Params {
     diag: u32,
     tri_data: u32,
     seam_coefs: u32,
+    // Curved (creased-rest) stencils: count, rows and vertices in `idx`; coefficients and
+    // (weight, rest) pairs in `fdata`. Their slots follow the triangles' in row order.
+    n_curved: u32,
+    curved_off: u32,
+    curved_verts: u32,
+    curved_coefs: u32,
+    curved_wr: u32,
     _pad0: u32,
-    _pad1: u32,
 }
 
 // Per-substep iteration state and the seam-closing ramp, owned by the GPU.

@@ -2,7 +2,7 @@
 //! same substeps as [`Simulation::step`](crate::solver::Simulation::step).
 //!
 //! Each stage is one WGSL file with its host side beside it (`predict`, `project_triangles`,
-//! `gauss_seidel`, `chebyshev`, `finish`, `ramp`; `common` holds the shared structs). Every WGSL
+//! `project_stencils`, `gauss_seidel`, `chebyshev`, `finish`, `ramp`; `common` holds the shared structs). Every WGSL
 //! struct has a `#[repr(C)]` [`bytemuck::Pod`] mirror whose size is checked against naga's
 //! layout in the unit tests, which validate every shader without a GPU.
 //!
@@ -17,15 +17,15 @@
 //! gap, ramp phase) once. Velocities are read back only on request.
 //!
 //! **Same physics.** Prediction with pins; stretch and shear projections (ported line for line
-//! from `constraints/triangle.rs`); Gauss-Seidel one dispatch per colour (a colour's rows are
+//! from `constraints/triangle.rs`) and curved (creased-rest) bending and seam-hinge stencils;
+//! Gauss-Seidel one dispatch per colour (a colour's rows are
 //! independent, so the order inside a dispatch does not matter and the only differences from
 //! the CPU are f32 rounding, e.g. fused multiply-adds); Chebyshev with the CPU's measured ρ and
 //! its growth restart, driven by an on-GPU reduction of the update norm; velocities and air
 //! damping with the seam-closing ramp advanced on the GPU from an on-GPU seam-gap reduction.
 //!
 //! **Not yet on the GPU** (a [`Solver`](crate::solver::Solver) asked for the GPU falls back to
-//! the CPU with a warning): colliders and contacts/friction, curved (creased-rest) bending and
-//! seam-hinge stencils, the Jacobi method, and the early stop on `tolerance` (it would need a
+//! the CPU with a warning): colliders and contacts/friction, the Jacobi method, and the early stop on `tolerance` (it would need a
 //! readback per iteration). Flat bending and seams are linear, so they are fully in the matrix
 //! and need no GPU kernel.
 
@@ -34,6 +34,7 @@ pub mod common;
 pub mod finish;
 pub mod gauss_seidel;
 pub mod predict;
+pub mod project_stencils;
 pub mod project_triangles;
 pub mod ramp;
 
@@ -169,6 +170,7 @@ impl Buffers {
 struct Pipelines {
     predict: wgpu::ComputePipeline,
     project: wgpu::ComputePipeline,
+    project_stencils: wgpu::ComputePipeline,
     gauss_seidel: wgpu::ComputePipeline,
     reduce: wgpu::ComputePipeline,
     extrapolate: wgpu::ComputePipeline,
@@ -179,6 +181,7 @@ struct Pipelines {
 struct BindGroups {
     predict: wgpu::BindGroup,
     project: wgpu::BindGroup,
+    project_stencils: wgpu::BindGroup,
     gauss_seidel: Vec<wgpu::BindGroup>,
     reduce: wgpu::BindGroup,
     extrapolate: wgpu::BindGroup,
@@ -190,6 +193,7 @@ struct BindGroups {
 struct Uploaded {
     n: usize,
     n_tris: usize,
+    n_curved: usize,
     colours: Vec<ColourRange>,
     h: f32,
     rho: f32,
@@ -302,6 +306,7 @@ impl GpuSolver {
         let pipelines = Pipelines {
             predict: compile(&device, "predict", predict::SOURCE, predict::ENTRY),
             project: compile(&device, "project_triangles", project_triangles::SOURCE, project_triangles::ENTRY),
+            project_stencils: compile(&device, "project_stencils", project_stencils::SOURCE, project_stencils::ENTRY),
             gauss_seidel: compile(&device, "gauss_seidel", gauss_seidel::SOURCE, gauss_seidel::ENTRY),
             reduce: compile(&device, "reduce_omega", chebyshev::SOURCE, chebyshev::REDUCE_ENTRY),
             extrapolate: compile(&device, "extrapolate", chebyshev::SOURCE, chebyshev::EXTRAPOLATE_ENTRY),
@@ -341,14 +346,12 @@ impl GpuSolver {
         if view.num_colliders > 0 {
             return Some("colliders (contacts and friction)".into());
         }
-        if !view.model.slots.curved.is_empty() {
-            return Some("creased (curved-rest) bending or seam-hinge stencils".into());
-        }
         if view.settings.tolerance > 0.0 {
             return Some("the early stop on `tolerance` (needs a readback per iteration)".into());
         }
         // One dimension of dispatches covers 65535 workgroups of 64.
-        if view.x.len() > 65_535 * 64 || view.model.triangles.len() > 65_535 * 64 {
+        let m = view.model;
+        if view.x.len() > 65_535 * 64 || m.triangles.len() > 65_535 * 64 || m.slots.curved.len() > 65_535 * 64 {
             return Some(format!("more than {} particles or triangles", 65_535 * 64));
         }
         None
@@ -390,6 +393,20 @@ impl GpuSolver {
             start += g.len() as u32;
         }
         p.order = base(&mut idx, &order);
+        // Curved stencils as one compressed-row set, in slot order.
+        let (mut c_off, mut c_verts, mut c_coefs, mut c_wr) = (vec![0u32], Vec::new(), Vec::new(), Vec::new());
+        for &(set_id, st) in &lay.curved {
+            let set = if set_id == 0 { &m.bending } else { &m.seam_hinges };
+            let st = st as usize;
+            for t in set.range(st) {
+                c_verts.push(set.verts[t]);
+                c_coefs.push(set.coefs[t]);
+            }
+            c_off.push(c_verts.len() as u32);
+            c_wr.extend_from_slice(&[set.weights[st], set.rest[st]]);
+        }
+        p.curved_off = base(&mut idx, &c_off);
+        p.curved_verts = base(&mut idx, &c_verts);
 
         let mut fdata: Vec<f32> = Vec::new();
         let fbase = |f: &mut Vec<f32>, data: &[f32]| {
@@ -408,6 +425,9 @@ impl GpuSolver {
         }
         p.tri_data = fbase(&mut fdata, &td);
         p.seam_coefs = fbase(&mut fdata, &sp.coefs);
+        p.curved_coefs = fbase(&mut fdata, &c_coefs);
+        p.curved_wr = fbase(&mut fdata, &c_wr);
+        p.n_curved = lay.curved.len() as u32;
 
         let s = view.settings;
         let h = view.h;
@@ -500,6 +520,7 @@ impl GpuSolver {
             self.binds = Some(BindGroups {
                 predict: bind(d, &pl.predict, "predict", &predict::entries(b)),
                 project: bind(d, &pl.project, "project_triangles", &project_triangles::entries(b)),
+                project_stencils: bind(d, &pl.project_stencils, "project_stencils", &project_stencils::entries(b)),
                 gauss_seidel,
                 reduce: bind(d, &pl.reduce, "reduce_omega", &chebyshev::reduce_entries(b)),
                 extrapolate: bind(d, &pl.extrapolate, "extrapolate", &chebyshev::extrapolate_entries(b)),
@@ -507,7 +528,8 @@ impl GpuSolver {
                 ramp: bind(d, &pl.ramp, "ramp", &ramp::entries(b)),
             });
         }
-        self.uploaded = Some(Uploaded { n, n_tris: nt, colours, h, rho: view.rho, method: s.method });
+        self.uploaded =
+            Some(Uploaded { n, n_tris: nt, n_curved: lay.curved.len(), colours, h, rho: view.rho, method: s.method });
         self.dirty = false;
         Ok(())
     }
@@ -561,6 +583,11 @@ impl GpuSolver {
                     pass.set_pipeline(&pl.project);
                     pass.set_bind_group(0, &g.project, &[]);
                     pass.dispatch_workgroups(groups(u.n_tris, project_triangles::WORKGROUP), 1, 1);
+                    if u.n_curved > 0 {
+                        pass.set_pipeline(&pl.project_stencils);
+                        pass.set_bind_group(0, &g.project_stencils, &[]);
+                        pass.dispatch_workgroups(groups(u.n_curved, project_stencils::WORKGROUP), 1, 1);
+                    }
                     pass.set_pipeline(&pl.gauss_seidel);
                     for (c, range) in u.colours.iter().enumerate() {
                         pass.set_bind_group(0, &g.gauss_seidel[c], &[]);

@@ -51,6 +51,7 @@ impl Simulation {
 
     /// Takes back positions computed elsewhere (already checked finite by the caller) and
     /// advances the clock and the ramp as the CPU step would have.
+    #[cfg(feature = "gpu")]
     pub(crate) fn accept_backend_state(&mut self, x: Option<&[[f32; 4]]>, ramp: RampPhase, elapsed: f64) {
         if let Some(x) = x {
             for (i, p) in x.iter().enumerate() {
@@ -62,6 +63,7 @@ impl Simulation {
     }
 
     /// Takes back velocities computed elsewhere.
+    #[cfg(feature = "gpu")]
     pub(crate) fn accept_backend_velocities(&mut self, v: &[[f32; 4]]) {
         for (i, p) in v.iter().enumerate() {
             self.v.set(i, glam::Vec3::new(p[0], p[1], p[2]));

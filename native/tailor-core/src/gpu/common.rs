@@ -10,7 +10,7 @@ pub const PHASE_CLOSING: u32 = 0;
 pub const PHASE_RELEASING: u32 = 1;
 pub const PHASE_DONE: u32 = 2;
 
-/// Mirror of WGSL `Params` (uniform; 144 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
+/// Mirror of WGSL `Params` (uniform; 160 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
 /// 12 bytes) followed by `h`, so no padding is needed there; the size is a multiple of 16.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -48,7 +48,11 @@ pub struct Params {
     pub curved_verts: u32,
     pub curved_coefs: u32,
     pub curved_wr: u32,
+    pub n_colliders: u32,
+    pub thickness: f32,
     pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
 }
 
 /// Mirror of WGSL `StepState` (storage; 48 bytes, explicit tail padding).
@@ -65,8 +69,50 @@ pub struct StepState {
     pub elapsed: f32,
     pub gap_max: f32,
     pub closed_fraction: f32,
+    /// Particles in contact after the last substep's iterations.
+    pub contacts: u32,
+    pub _pad1: u32,
+}
+
+/// Mirror of WGSL `Particle` (32 bytes): each `vec3<f32>` is followed by a 4-byte scalar,
+/// which fills the vec3's 16-byte slot, so the Rust `[f32; 3]` + scalar layout matches.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Particle {
+    pub b_const: [f32; 3],
+    pub mass: f32,
+    pub pin_target: [f32; 3],
+    pub pinned: u32,
+}
+
+/// Collider kinds as `Collider::kind` encodes them.
+pub const KIND_PLANE: u32 = 0;
+pub const KIND_SPHERE: u32 = 1;
+pub const KIND_CAPSULE: u32 = 2;
+
+/// Mirror of WGSL `Collider` (48 bytes): each `vec3<f32>` is followed by a scalar that fills
+/// its 16-byte slot; explicit tail padding to the 16-byte struct alignment.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Collider {
+    pub p0: [f32; 3],
+    pub radius: f32,
+    pub p1: [f32; 3],
+    pub kind: u32,
+    pub static_friction: f32,
+    pub kinetic_friction: f32,
     pub _pad0: u32,
     pub _pad1: u32,
+}
+
+/// Mirror of WGSL `Contact` (32 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Contact {
+    pub target_pos: [f32; 3],
+    pub weight: f32,
+    pub normal: [f32; 3],
+    pub collider: u32,
 }
 
 /// Parses and validates a WGSL source with naga (no GPU needed); the error names the stage.
@@ -99,6 +145,8 @@ mod tests {
         let m = validate_wgsl("common", COMMON_WGSL).unwrap();
         assert_struct_size(&m, "Params", std::mem::size_of::<Params>());
         assert_struct_size(&m, "StepState", std::mem::size_of::<StepState>());
+        assert_struct_size(&m, "Collider", std::mem::size_of::<Collider>());
+        assert_struct_size(&m, "Contact", std::mem::size_of::<Contact>());
         assert_eq!(std::mem::size_of::<Params>() % 16, 0);
     }
 }

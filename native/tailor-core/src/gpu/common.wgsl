@@ -39,7 +39,11 @@ struct Params {
     curved_verts: u32,
     curved_coefs: u32,
     curved_wr: u32,
+    n_colliders: u32,
+    thickness: f32,
     _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // Per-substep iteration state and the seam-closing ramp, owned by the GPU.
@@ -54,7 +58,7 @@ struct StepState {
     elapsed: f32,
     gap_max: f32,
     closed_fraction: f32,
-    _pad0: u32,
+    contacts: u32,
     _pad1: u32,
 }
 
@@ -63,6 +67,69 @@ const PHASE_RELEASING: u32 = 1u;
 const PHASE_DONE: u32 = 2u;
 // WGSL has no infinity literal; the largest f32 compares the same way here.
 const F32_MAX: f32 = 3.40282347e38;
+
+// An analytic collider (port of `contacts::Shape`): plane (p0 = point, p1 = normal), sphere
+// (p0 = centre) or capsule (segment p0-p1), with its radius and friction coefficients.
+struct Collider {
+    p0: vec3<f32>,
+    radius: f32,
+    p1: vec3<f32>,
+    kind: u32,
+    static_friction: f32,
+    kinetic_friction: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// A particle's contact this iteration: target and weight (0 = none), normal and collider.
+struct Contact {
+    target_pos: vec3<f32>,
+    weight: f32,
+    normal: vec3<f32>,
+    collider: u32,
+}
+
+// Static per-particle data.
+struct Particle {
+    b_const: vec3<f32>,
+    mass: f32,
+    pin_target: vec3<f32>,
+    pinned: u32,
+}
+
+const KIND_PLANE: u32 = 0u;
+const KIND_SPHERE: u32 = 1u;
+const KIND_CAPSULE: u32 = 2u;
+const NO_COLLIDER: u32 = 0xffffffffu;
+
+fn sphere_distance(p: vec3<f32>, c: vec3<f32>, r: f32) -> vec4<f32> {
+    let d = p - c;
+    let l = length(d);
+    var n = vec3<f32>(0.0, 0.0, 1.0);
+    if (l > 1e-12) {
+        n = d / l;
+    }
+    return vec4<f32>(n, l - r);
+}
+
+// Signed distance (w) and outward unit normal (xyz) at p (port of `Shape::distance`).
+fn collider_distance(c: Collider, p: vec3<f32>) -> vec4<f32> {
+    if (c.kind == KIND_PLANE) {
+        // glam's normalize_or: v · (1/|v|), Z when that is not finite and positive.
+        let l = length(c.p1);
+        var n = vec3<f32>(0.0, 0.0, 1.0);
+        if (l > 0.0) {
+            n = c.p1 * (1.0 / l);
+        }
+        return vec4<f32>(n, dot(p - c.p0, n));
+    }
+    if (c.kind == KIND_SPHERE) {
+        return sphere_distance(p, c.p0, c.radius);
+    }
+    let ab = c.p1 - c.p0;
+    let t = clamp(dot(p - c.p0, ab) / max(dot(ab, ab), 1e-20), 0.0, 1.0);
+    return sphere_distance(p, c.p0 + ab * t, c.radius);
+}
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read_write> state: StepState;

@@ -7,7 +7,16 @@ pub const ENTRY: &str = "main";
 pub const WORKGROUP: u32 = 64;
 
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (1, &b.state), (2, &b.x), (3, &b.x_start), (4, &b.v)]
+    vec![
+        (0, &b.params),
+        (1, &b.state),
+        (2, &b.x),
+        (3, &b.x_start),
+        (4, &b.v),
+        (5, &b.contacts),
+        (6, &b.colliders),
+        (7, &b.particles),
+    ]
 }
 
 #[cfg(test)]

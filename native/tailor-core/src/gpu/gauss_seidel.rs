@@ -21,7 +21,16 @@ pub struct ColourRange {
 
 /// Entries except binding 2 (the colour's range), which differs per colour's bind group.
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (3, &b.idx), (4, &b.fdata), (5, &b.x), (6, &b.rhs), (7, &b.slots), (8, &b.norms)]
+    vec![
+        (0, &b.params),
+        (3, &b.idx),
+        (4, &b.fdata),
+        (5, &b.x),
+        (6, &b.rhs),
+        (7, &b.slots),
+        (8, &b.norms),
+        (9, &b.contacts),
+    ]
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! The per-frame solve on the GPU (feature `gpu`): wgpu compute shaders in WGSL running the
 //! same substeps as [`Simulation::step`](crate::solver::Simulation::step).
 //!
-//! Each stage is one WGSL file with its host side beside it (`predict`, `project_triangles`,
+//! Each stage is one WGSL file with its host side beside it (`predict`, `contacts`, `project_triangles`,
 //! `project_stencils`, `gauss_seidel`, `chebyshev`, `finish`, `ramp`; `common` holds the shared structs). Every WGSL
 //! struct has a `#[repr(C)]` [`bytemuck::Pod`] mirror whose size is checked against naga's
 //! layout in the unit tests, which validate every shader without a GPU.
@@ -18,19 +18,23 @@
 //!
 //! **Same physics.** Prediction with pins; stretch and shear projections (ported line for line
 //! from `constraints/triangle.rs`) and curved (creased-rest) bending and seam-hinge stencils;
-//! Gauss-Seidel one dispatch per colour (a colour's rows are
+//! contacts with analytic colliders (plane, sphere, capsule: detection every iteration, the
+//! penalty term in the row solve, penetration resolution and Coulomb friction after the
+//! iterations); Gauss-Seidel one dispatch per colour (a colour's rows are
 //! independent, so the order inside a dispatch does not matter and the only differences from
 //! the CPU are f32 rounding, e.g. fused multiply-adds); Chebyshev with the CPU's measured ρ and
 //! its growth restart, driven by an on-GPU reduction of the update norm; velocities and air
 //! damping with the seam-closing ramp advanced on the GPU from an on-GPU seam-gap reduction.
 //!
 //! **Not yet on the GPU** (a [`Solver`](crate::solver::Solver) asked for the GPU falls back to
-//! the CPU with a warning): colliders and contacts/friction, the Jacobi method, and the early stop on `tolerance` (it would need a
+//! the CPU with a warning): mesh colliders and self-collision (they need the spatial hash on
+//! the GPU; they are not part of `Simulation` yet either), the Jacobi method, and the early stop on `tolerance` (it would need a
 //! readback per iteration). Flat bending and seams are linear, so they are fully in the matrix
 //! and need no GPU kernel.
 
 pub mod chebyshev;
 pub mod common;
+pub mod contacts;
 pub mod finish;
 pub mod gauss_seidel;
 pub mod predict;
@@ -48,7 +52,10 @@ use crate::solver::damping::{Ramp, RampPhase};
 use crate::solver::settings::Method;
 use crate::solver::{ActiveBackend, Simulation, SolverView, StepStats};
 
-use common::{Params, StepState, PHASE_CLOSING, PHASE_DONE, PHASE_RELEASING};
+use common::{
+    Collider, Contact, Params, StepState, KIND_CAPSULE, KIND_PLANE, KIND_SPHERE, PHASE_CLOSING, PHASE_DONE,
+    PHASE_RELEASING,
+};
 use gauss_seidel::ColourRange;
 use predict::Particle;
 
@@ -99,6 +106,8 @@ pub struct Buffers {
     pub idx: wgpu::Buffer,
     pub fdata: wgpu::Buffer,
     pub colours: wgpu::Buffer,
+    pub contacts: wgpu::Buffer,
+    pub colliders: wgpu::Buffer,
     x_backup: wgpu::Buffer,
     v_backup: wgpu::Buffer,
     state_backup: wgpu::Buffer,
@@ -114,6 +123,7 @@ struct Capacities {
     idx: usize,
     fdata: usize,
     colours: usize,
+    colliders: usize,
 }
 
 impl Capacities {
@@ -123,6 +133,7 @@ impl Capacities {
             && need.idx <= self.idx
             && need.fdata <= self.fdata
             && need.colours <= self.colours
+            && need.colliders <= self.colliders
     }
 }
 
@@ -158,6 +169,8 @@ impl Buffers {
             idx: mk("idx", caps.idx as u64 * 4, storage),
             fdata: mk("fdata", caps.fdata as u64 * 4, storage),
             colours: mk("colours", caps.colours.max(1) as u64 * colour_stride, U::UNIFORM | U::COPY_DST),
+            contacts: mk("contacts", n * std::mem::size_of::<Contact>() as u64, storage),
+            colliders: mk("colliders", caps.colliders.max(1) as u64 * std::mem::size_of::<Collider>() as u64, storage),
             x_backup: mk("x_backup", n * VEC4, storage),
             v_backup: mk("v_backup", n * VEC4, storage),
             state_backup: mk("state_backup", STATE_BYTES, storage),
@@ -169,6 +182,7 @@ impl Buffers {
 
 struct Pipelines {
     predict: wgpu::ComputePipeline,
+    detect: wgpu::ComputePipeline,
     project: wgpu::ComputePipeline,
     project_stencils: wgpu::ComputePipeline,
     gauss_seidel: wgpu::ComputePipeline,
@@ -180,6 +194,7 @@ struct Pipelines {
 
 struct BindGroups {
     predict: wgpu::BindGroup,
+    detect: wgpu::BindGroup,
     project: wgpu::BindGroup,
     project_stencils: wgpu::BindGroup,
     gauss_seidel: Vec<wgpu::BindGroup>,
@@ -194,6 +209,7 @@ struct Uploaded {
     n: usize,
     n_tris: usize,
     n_curved: usize,
+    n_colliders: usize,
     colours: Vec<ColourRange>,
     h: f32,
     rho: f32,
@@ -305,6 +321,7 @@ impl GpuSolver {
         device.push_error_scope(wgpu::ErrorFilter::Validation);
         let pipelines = Pipelines {
             predict: compile(&device, "predict", predict::SOURCE, predict::ENTRY),
+            detect: compile(&device, "contacts", contacts::SOURCE, contacts::ENTRY),
             project: compile(&device, "project_triangles", project_triangles::SOURCE, project_triangles::ENTRY),
             project_stencils: compile(&device, "project_stencils", project_stencils::SOURCE, project_stencils::ENTRY),
             gauss_seidel: compile(&device, "gauss_seidel", gauss_seidel::SOURCE, gauss_seidel::ENTRY),
@@ -342,9 +359,6 @@ impl GpuSolver {
     fn unsupported(view: &SolverView<'_>) -> Option<String> {
         if view.settings.method == Method::Jacobi {
             return Some("the Jacobi method".into());
-        }
-        if view.num_colliders > 0 {
-            return Some("colliders (contacts and friction)".into());
         }
         if view.settings.tolerance > 0.0 {
             return Some("the early stop on `tolerance` (needs a readback per iteration)".into());
@@ -428,6 +442,29 @@ impl GpuSolver {
         p.curved_coefs = fbase(&mut fdata, &c_coefs);
         p.curved_wr = fbase(&mut fdata, &c_wr);
         p.n_curved = lay.curved.len() as u32;
+        let colliders: Vec<Collider> = view
+            .colliders
+            .iter()
+            .map(|c| {
+                let (kind, p0, p1, radius) = match c.shape {
+                    crate::solver::Shape::Plane { point, normal } => (KIND_PLANE, point, normal, 0.0),
+                    crate::solver::Shape::Sphere { center, radius } => (KIND_SPHERE, center, [0.0; 3], radius),
+                    crate::solver::Shape::Capsule { a, b, radius } => (KIND_CAPSULE, a, b, radius),
+                };
+                Collider {
+                    p0,
+                    radius,
+                    p1,
+                    kind,
+                    static_friction: c.static_friction,
+                    kinetic_friction: c.kinetic_friction,
+                    _pad0: 0,
+                    _pad1: 0,
+                }
+            })
+            .collect();
+        p.n_colliders = colliders.len() as u32;
+        p.thickness = view.thickness;
 
         let s = view.settings;
         let h = view.h;
@@ -448,7 +485,14 @@ impl GpuSolver {
         p.release_time = s.ramp.release_time;
         p.has_seams = (!sp.is_empty()) as u32;
 
-        let need = Capacities { n, slots: lay.total, idx: idx.len(), fdata: fdata.len(), colours: colours.len() };
+        let need = Capacities {
+            n,
+            slots: lay.total,
+            idx: idx.len(),
+            fdata: fdata.len(),
+            colours: colours.len(),
+            colliders: colliders.len(),
+        };
         let stride = self.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
         let realloc = self.buffers.as_ref().is_none_or(|b| !b.caps.fits(&need));
         if realloc {
@@ -477,6 +521,11 @@ impl GpuSolver {
         q.write_buffer(&b.v, 0, bytemuck::cast_slice(&vec4(view.v)));
         // Pinned particles are in no colour, so their update norms must read zero.
         q.write_buffer(&b.norms, 0, bytemuck::cast_slice(&vec![[0.0f32; 2]; n]));
+        let no_contact = Contact { collider: u32::MAX, ..Contact::zeroed() };
+        q.write_buffer(&b.contacts, 0, bytemuck::cast_slice(&vec![no_contact; n]));
+        if !colliders.is_empty() {
+            q.write_buffer(&b.colliders, 0, bytemuck::cast_slice(&colliders));
+        }
         if !idx.is_empty() {
             q.write_buffer(&b.idx, 0, bytemuck::cast_slice(&idx));
         }
@@ -519,6 +568,7 @@ impl GpuSolver {
                 .collect();
             self.binds = Some(BindGroups {
                 predict: bind(d, &pl.predict, "predict", &predict::entries(b)),
+                detect: bind(d, &pl.detect, "contacts", &contacts::entries(b)),
                 project: bind(d, &pl.project, "project_triangles", &project_triangles::entries(b)),
                 project_stencils: bind(d, &pl.project_stencils, "project_stencils", &project_stencils::entries(b)),
                 gauss_seidel,
@@ -528,8 +578,16 @@ impl GpuSolver {
                 ramp: bind(d, &pl.ramp, "ramp", &ramp::entries(b)),
             });
         }
-        self.uploaded =
-            Some(Uploaded { n, n_tris: nt, n_curved: lay.curved.len(), colours, h, rho: view.rho, method: s.method });
+        self.uploaded = Some(Uploaded {
+            n,
+            n_tris: nt,
+            n_curved: lay.curved.len(),
+            n_colliders: colliders.len(),
+            colours,
+            h,
+            rho: view.rho,
+            method: s.method,
+        });
         self.dirty = false;
         Ok(())
     }
@@ -580,6 +638,11 @@ impl GpuSolver {
                 pass.set_bind_group(0, &g.predict, &[]);
                 pass.dispatch_workgroups(groups(n, predict::WORKGROUP), 1, 1);
                 for _ in 0..iterations {
+                    if u.n_colliders > 0 {
+                        pass.set_pipeline(&pl.detect);
+                        pass.set_bind_group(0, &g.detect, &[]);
+                        pass.dispatch_workgroups(groups(n, contacts::WORKGROUP), 1, 1);
+                    }
                     pass.set_pipeline(&pl.project);
                     pass.set_bind_group(0, &g.project, &[]);
                     pass.dispatch_workgroups(groups(u.n_tris, project_triangles::WORKGROUP), 1, 1);
@@ -637,7 +700,7 @@ impl GpuSolver {
             ramp_phase: phase,
             seam_gap_max: state.gap_max,
             seam_closed_fraction: state.closed_fraction,
-            contacts: 0,
+            contacts: state.contacts as usize,
             backend: ActiveBackend::Gpu,
             warning: None,
             ..Default::default()

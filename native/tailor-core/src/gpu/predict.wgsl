@@ -2,13 +2,6 @@
 // their targets), initial guess x = y, fixed right-hand side M/h²·y + b_const; also starts the
 // substep's Chebyshev sequence (prev = cur = y) and resets the iteration state.
 
-struct Particle {
-    b_const: vec3<f32>,
-    mass: f32,
-    pin_target: vec3<f32>,
-    pinned: u32,
-}
-
 @group(0) @binding(2) var<storage, read> particles: array<Particle>;
 @group(0) @binding(3) var<storage, read_write> x: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> v: array<vec4<f32>>;

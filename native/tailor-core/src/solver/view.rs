@@ -3,6 +3,7 @@
 //!
 //! Kept apart from `simulation.rs` so that the CPU step does not grow backend concerns.
 
+use super::contacts::ImplicitCollider;
 use super::damping::RampPhase;
 use super::model::Model;
 use super::settings::SolverSettings;
@@ -23,7 +24,9 @@ pub struct SolverView<'a> {
     /// The Chebyshev radius the CPU would use (0 when not accelerating).
     pub rho: f32,
     pub ramp_phase: RampPhase,
-    pub num_colliders: usize,
+    pub colliders: &'a [ImplicitCollider],
+    /// Collision thickness, metres.
+    pub thickness: f32,
 }
 
 impl Simulation {
@@ -45,7 +48,8 @@ impl Simulation {
             h: self.h_prepared,
             rho,
             ramp_phase: self.ramp.phase,
-            num_colliders: self.colliders.len(),
+            colliders: &self.colliders,
+            thickness: self.thickness,
         }
     }
 

@@ -300,3 +300,38 @@ fn unsupported_scene_falls_back_to_the_cpu_with_a_warning() {
     assert!(w.contains("Jacobi"), "{w}");
     assert_eq!(g.active_backend(), ActiveBackend::Cpu);
 }
+
+/// A frame that blows up on the GPU is rolled back there and reported as on the CPU; the
+/// solver stays on the GPU and continues after the cause is fixed.
+#[test]
+fn divergence_on_the_gpu_rolls_back_and_reports() {
+    let mut sim = strip();
+    let mut wild = sim.settings().clone();
+    wild.gravity = [0.0, 0.0, -3e38];
+    sim.set_settings(wild).unwrap();
+    let Some(mut g) = gpu(sim, "divergence_on_the_gpu") else { return };
+    let before = g.simulation().positions().clone();
+    let mut cpu_wild = strip();
+    let wild_settings = g.simulation().settings().clone();
+    cpu_wild.set_settings(wild_settings).unwrap();
+    // The CPU diverges on this too (the comparison is like for like).
+    assert!(matches!(cpu_wild.step(1.0 / 30.0), Err(tailor_core::TailorError::Diverged { .. })));
+    let err = g.step(1.0 / 30.0).unwrap_err();
+    assert!(matches!(err, tailor_core::TailorError::Diverged { .. }), "{err:?}");
+    assert_eq!(g.simulation().positions(), &before, "the positions were not rolled back");
+    assert_eq!(g.active_backend(), ActiveBackend::Gpu);
+    g.edit(|s| {
+        let mut calm = s.settings().clone();
+        calm.gravity = [0.0, 0.0, -9.81];
+        s.set_settings(calm)
+    })
+    .unwrap();
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Gpu);
+    // The rollback restored the GPU's own state too: this frame matches a fresh CPU frame.
+    let mut cpu = strip();
+    cpu.step(1.0 / 30.0).unwrap();
+    let d = max_diff(&cpu, g.simulation());
+    println!("after the rollback: max |Δx| {d:.3e} m");
+    assert!(d < TOLERANCE_CHEBYSHEV, "{d} m");
+}

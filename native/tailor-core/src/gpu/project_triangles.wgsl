@@ -48,8 +48,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let denom = 1.0 - lambda * lambda;
     var ph0 = c0;
     var ph1 = c1;
-    // Parallel columns of equal length: every rotation is as close; keep the state.
-    if (denom >= 1e-6) {
+    // Parallel columns of equal length: every rotation is as close; keep the state. Written as
+    // the CPU's test negated (not `>=`) so that a NaN takes the same branch where NaNs are kept.
+    if (!(denom < 1e-6)) {
         let inv = 1.0 / denom;
         ph0 = (c0 - c1 * lambda) * inv;
         ph1 = (c1 - c0 * lambda) * inv;

@@ -196,6 +196,21 @@ fn edits_between_frames_reach_the_gpu() {
 }
 
 #[test]
+fn a_new_time_step_keeps_the_gpu_state() {
+    let Some(mut g) = gpu(strip(), "a_new_time_step_keeps_the_gpu_state") else { return };
+    let mut cpu = strip();
+    agree(&mut cpu, &mut g, 5);
+    // Halving dt changes h: the GPU re-uploads, and must not lose its velocities doing so.
+    for f in 0..5 {
+        cpu.step(1.0 / 60.0).unwrap();
+        let st = g.step(1.0 / 60.0).unwrap();
+        assert_eq!(st.backend, ActiveBackend::Gpu);
+        let d = max_diff(&cpu, g.simulation());
+        assert!(d < TOLERANCE_CHEBYSHEV, "frame {f} at dt = 1/60: {d} m");
+    }
+}
+
+#[test]
 fn forced_no_adapter_falls_back_to_the_cpu_with_a_warning() {
     let opts = SolverOptions { backend: Backend::Gpu, force_no_adapter: true };
     let mut s = Solver::with_options(strip(), opts);

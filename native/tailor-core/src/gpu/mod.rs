@@ -605,6 +605,11 @@ impl GpuSolver {
         let h = dt / substeps as f32;
         let stale = self.uploaded.as_ref().is_none_or(|u| u.h != h || u.method != sim.settings().method);
         if self.dirty || stale {
+            if !self.dirty {
+                // A new substep length re-uploads from the CPU copy: bring its velocities up
+                // to date first (the GPU's are the current ones).
+                self.sync_velocities(sim)?;
+            }
             let view = sim.gpu_view(h);
             self.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let r = self.upload(&view);

@@ -21,6 +21,8 @@
 //! * [`garment_file`]: the versioned garment file (JSON manifest plus binary sidecar).
 //! * [`collision`]: the spatial hash of Nylén et al. 2020 and the collision kernels built on
 //!   it (mesh collider, self-collision pairs, intersection tests, quality metrics).
+//! * `gpu` (feature `gpu`): the per-frame solve on the GPU with wgpu (WGSL compute shaders),
+//!   chosen through [`solver::Solver`]'s [`solver::Backend`].
 //! * [`io`]: triangle meshes from OBJ, PLY and glTF (skinned animation included) and the
 //!   Point Cache 2 vertex-animation format.
 //!
@@ -31,6 +33,8 @@ pub mod collision;
 pub mod error;
 pub mod garment;
 pub mod garment_file;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod io;
 pub mod mesh;
 pub mod pattern;

@@ -6,6 +6,7 @@
 //! [`colouring`], [`chebyshev`]) steps, then damping (velocities, friction, the seam-closing
 //! ramp, [`damping`]). [`reference`] and [`measures`] say how accurate a step is.
 
+mod backend;
 pub mod chebyshev;
 mod cholesky;
 pub mod collide;
@@ -24,10 +25,12 @@ pub mod simulation;
 pub mod soa;
 pub mod stats;
 pub mod system;
+mod view;
 
 pub use collide::{
     ColliderId, CollisionSkips, CollisionStats, MeshColliderOptions, QualityMetrics, SelfCollisionSettings,
 };
+pub use backend::{Backend, Solver, SolverOptions, AUTO_GPU_MIN_PARTICLES};
 pub use constraints::{Attachment, Seam, SeamPoint};
 pub use contacts::{ImplicitCollider, Shape};
 pub use damping::RampPhase;
@@ -36,4 +39,5 @@ pub use reference::ReferenceInfo;
 pub use settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings};
 pub use simulation::Simulation;
 pub use soa::Vec3Soa;
-pub use stats::{StageTimings, StepStats};
+pub use stats::{ActiveBackend, StageTimings, StepStats};
+pub use view::SolverView;

@@ -38,10 +38,10 @@ const RHO_SWEEPS: u32 = 60;
 pub struct Simulation {
     pub(crate) model: Model,
     pub(crate) settings: SolverSettings,
-    colliders: Vec<ImplicitCollider>,
+    pub(crate) colliders: Vec<ImplicitCollider>,
     pub(crate) thickness: f32,
     pub(crate) x: Vec3Soa,
-    v: Vec3Soa,
+    pub(crate) v: Vec3Soa,
     pub(crate) x_start: Vec3Soa,
     pub(crate) y: Vec3Soa,
     x_prev_iter: Vec3Soa,
@@ -55,14 +55,14 @@ pub struct Simulation {
     pub(crate) contacts: ContactSet,
     /// Mesh colliders and self-collision (`collide/`).
     pub(crate) collide: Collisions,
-    pin_target: Vec3Soa,
-    ramp: Ramp,
-    cheb: Chebyshev,
+    pub(crate) pin_target: Vec3Soa,
+    pub(crate) ramp: Ramp,
+    pub(crate) cheb: Chebyshev,
     free: Vec<u32>,
     pub(crate) h_prepared: f32,
     /// Some seam pair still has a non-zero closing rest length.
     seams_closing: bool,
-    time: f64,
+    pub(crate) time: f64,
 }
 
 /// A snapshot of the moving state.
@@ -137,6 +137,11 @@ impl Simulation {
     pub fn model(&self) -> &Model {
         &self.model
     }
+    /// Whether some seam is still being drawn together at `ramp.closing_speed`.
+    pub fn seams_closing(&self) -> bool {
+        self.seams_closing
+    }
+
     pub fn time(&self) -> f64 {
         self.time
     }

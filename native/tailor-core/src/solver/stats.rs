@@ -29,6 +29,14 @@ impl StageTimings {
     }
 }
 
+/// Which backend ran a step.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum ActiveBackend {
+    #[default]
+    Cpu,
+    Gpu,
+}
+
 /// Statistics of one call to `Simulation::step`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StepStats {
@@ -53,4 +61,8 @@ pub struct StepStats {
     pub contacts: usize,
     /// Mesh-collider and self-collision work (times also counted in the stages above).
     pub collision: CollisionStats,
+    /// The backend that ran the step.
+    pub backend: ActiveBackend,
+    /// Why a requested GPU backend is not in use (no adapter, unsupported feature), if so.
+    pub warning: Option<String>,
 }

@@ -1,0 +1,79 @@
+// Chebyshev acceleration on the GPU (port of `solver/chebyshev.rs`, ρ measured on the CPU).
+// `reduce_omega` (one workgroup) sums the sweep's squared updates, applies the growth check and
+// the ω recurrence, and records the relative residual; `extrapolate` then applies
+// x ← ω(x − prev) + prev and shifts the history (prev ← cur, cur ← x).
+
+@group(0) @binding(2) var<storage, read> norms: array<vec2<f32>>;
+@group(0) @binding(3) var<storage, read_write> x: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read_write> prev: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> cur: array<vec4<f32>>;
+
+const REDUCE: u32 = 256u;
+var<workgroup> sum_u: array<f32, 256>;
+var<workgroup> sum_r: array<f32, 256>;
+
+@compute @workgroup_size(256)
+fn reduce_omega(@builtin(local_invocation_index) li: u32) {
+    var a = 0.0;
+    var b = 0.0;
+    for (var i = li; i < params.n; i += REDUCE) {
+        let q = norms[i];
+        a += q.x;
+        b += q.y;
+    }
+    sum_u[li] = a;
+    sum_r[li] = b;
+    workgroupBarrier();
+    for (var s = REDUCE / 2u; s > 0u; s >>= 1u) {
+        if (li < s) {
+            sum_u[li] += sum_u[li + s];
+            sum_r[li] += sum_r[li + s];
+        }
+        workgroupBarrier();
+    }
+    if (li != 0u) {
+        return;
+    }
+    let delta = sqrt(sum_u[0]);
+    let res = sqrt(sum_r[0]);
+    let k = state.k;
+    if (k == 0u) {
+        state.r0 = max(res, 1e-30);
+    }
+    state.residual = res / state.r0;
+    // `Chebyshev::omega`: restart when the update norm grew.
+    let grew = state.started != 0u && delta > state.last_delta;
+    state.last_delta = delta;
+    let rho = params.rho;
+    if (k < params.delay || rho <= 0.0 || grew) {
+        state.started = 0u;
+        state.omega = 1.0;
+    } else {
+        let rho2 = rho * rho;
+        if (state.started != 0u) {
+            state.omega = 4.0 / (4.0 - rho2 * state.omega);
+        } else {
+            state.omega = 2.0 / (2.0 - rho2);
+        }
+        state.started = 1u;
+    }
+    state.k = k + 1u;
+}
+
+@compute @workgroup_size(64)
+fn extrapolate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= params.n) {
+        return;
+    }
+    let w = state.omega;
+    var xi = x[i];
+    let p = prev[i];
+    // The CPU skips ω = 1 entirely; (x − p) + p is not always x in floating point.
+    if (w != 1.0) {
+        xi = vec4<f32>(w * (xi.xyz - p.xyz) + p.xyz, 0.0);
+        x[i] = xi;
+    }
+    prev[i] = cur[i];
+    cur[i] = xi;
+}

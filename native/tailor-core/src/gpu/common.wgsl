@@ -1,0 +1,154 @@
+// Declarations shared by every Tailor compute shader (prepended to each one).
+// Mirrored by `common.rs`: keep the field order and padding identical.
+
+struct Params {
+    gravity: vec3<f32>,
+    h: f32,
+    inv_h: f32,
+    inv_h2: f32,
+    rho: f32,
+    n: u32,
+    n_tris: u32,
+    n_seam_pairs: u32,
+    delay: u32,
+    ramp_enabled: u32,
+    air_damping: f32,
+    closing_damping: f32,
+    gap_threshold: f32,
+    closed_fraction: f32,
+    release_time: f32,
+    has_seams: u32,
+    // Section bases in the packed index buffer `idx`.
+    mat_off: u32,
+    mat_cols: u32,
+    slot_off: u32,
+    slot_idx: u32,
+    tri_verts: u32,
+    seam_off: u32,
+    seam_verts: u32,
+    order: u32,
+    // Section bases in the packed float buffer `fdata`.
+    mat_vals: u32,
+    diag: u32,
+    tri_data: u32,
+    seam_coefs: u32,
+    // Curved (creased-rest) stencils: count, rows and vertices in `idx`; coefficients and
+    // (weight, rest) pairs in `fdata`. Their slots follow the triangles' in row order.
+    n_curved: u32,
+    curved_off: u32,
+    curved_verts: u32,
+    curved_coefs: u32,
+    curved_wr: u32,
+    n_colliders: u32,
+    thickness: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+// Per-substep iteration state and the seam-closing ramp, owned by the GPU.
+struct StepState {
+    omega: f32,
+    last_delta: f32,
+    started: u32,
+    k: u32,
+    r0: f32,
+    residual: f32,
+    phase: u32,
+    elapsed: f32,
+    gap_max: f32,
+    closed_fraction: f32,
+    contacts: u32,
+    _pad1: u32,
+}
+
+const PHASE_CLOSING: u32 = 0u;
+const PHASE_RELEASING: u32 = 1u;
+const PHASE_DONE: u32 = 2u;
+// WGSL has no infinity literal; the largest f32 compares the same way here.
+const F32_MAX: f32 = 3.40282347e38;
+
+// An analytic collider (port of `contacts::Shape`): plane (p0 = point, p1 = normal), sphere
+// (p0 = centre) or capsule (segment p0-p1), with its radius and friction coefficients.
+struct Collider {
+    p0: vec3<f32>,
+    radius: f32,
+    p1: vec3<f32>,
+    kind: u32,
+    static_friction: f32,
+    kinetic_friction: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// A particle's contact this iteration: target and weight (0 = none), normal and collider.
+struct Contact {
+    target_pos: vec3<f32>,
+    weight: f32,
+    normal: vec3<f32>,
+    collider: u32,
+}
+
+// Static per-particle data.
+struct Particle {
+    b_const: vec3<f32>,
+    mass: f32,
+    pin_target: vec3<f32>,
+    pinned: u32,
+}
+
+const KIND_PLANE: u32 = 0u;
+const KIND_SPHERE: u32 = 1u;
+const KIND_CAPSULE: u32 = 2u;
+const NO_COLLIDER: u32 = 0xffffffffu;
+
+fn sphere_distance(p: vec3<f32>, c: vec3<f32>, r: f32) -> vec4<f32> {
+    let d = p - c;
+    let l = length(d);
+    var n = vec3<f32>(0.0, 0.0, 1.0);
+    if (l > 1e-12) {
+        n = d / l;
+    }
+    return vec4<f32>(n, l - r);
+}
+
+// Signed distance (w) and outward unit normal (xyz) at p (port of `Shape::distance`).
+fn collider_distance(c: Collider, p: vec3<f32>) -> vec4<f32> {
+    if (c.kind == KIND_PLANE) {
+        // glam's normalize_or: v · (1/|v|), Z when that is not finite and positive.
+        let l = length(c.p1);
+        var n = vec3<f32>(0.0, 0.0, 1.0);
+        if (l > 0.0) {
+            n = c.p1 * (1.0 / l);
+        }
+        return vec4<f32>(n, dot(p - c.p0, n));
+    }
+    if (c.kind == KIND_SPHERE) {
+        return sphere_distance(p, c.p0, c.radius);
+    }
+    let ab = c.p1 - c.p0;
+    let t = clamp(dot(p - c.p0, ab) / max(dot(ab, ab), 1e-20), 0.0, 1.0);
+    return sphere_distance(p, c.p0 + ab * t, c.radius);
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read_write> state: StepState;
+
+// Air damping in effect for a ramp phase, 1/s (port of `damping::Ramp::damping`).
+fn ramp_damping(phase: u32, elapsed: f32) -> f32 {
+    if (params.ramp_enabled == 0u) {
+        return params.air_damping;
+    }
+    let high = max(params.closing_damping, params.air_damping);
+    if (phase == PHASE_CLOSING) {
+        return high;
+    }
+    if (phase == PHASE_RELEASING) {
+        var t = 1.0;
+        if (params.release_time > 0.0) {
+            t = min(elapsed / params.release_time, 1.0);
+        }
+        return high + (params.air_damping - high) * t;
+    }
+    return params.air_damping;
+}

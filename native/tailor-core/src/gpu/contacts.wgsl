@@ -1,0 +1,33 @@
+// Contact detection against the analytic colliders (port of `ContactSet::detect`), once per
+// iteration before the projections: the deepest collider within the thickness gives the
+// contact target p + n·(thickness − d) and weight CONTACT_WEIGHT_FACTOR·Dᵢ.
+
+@group(0) @binding(2) var<storage, read> fdata: array<f32>;
+@group(0) @binding(3) var<storage, read> x: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> particles: array<Particle>;
+@group(0) @binding(5) var<storage, read> colliders: array<Collider>;
+@group(0) @binding(6) var<storage, read_write> contacts: array<Contact>;
+
+// `contacts::CONTACT_WEIGHT_FACTOR`.
+const CONTACT_WEIGHT_FACTOR: f32 = 20.0;
+
+@compute @workgroup_size(64)
+fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= params.n) {
+        return;
+    }
+    var best = Contact(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), NO_COLLIDER);
+    if (particles[i].pinned == 0u) {
+        let p = x[i].xyz;
+        var deepest = F32_MAX;
+        for (var c = 0u; c < params.n_colliders; c++) {
+            let dn = collider_distance(colliders[c], p);
+            if (dn.w < params.thickness && dn.w < deepest) {
+                deepest = dn.w;
+                best = Contact(p + dn.xyz * (params.thickness - dn.w), CONTACT_WEIGHT_FACTOR * fdata[params.diag + i], dn.xyz, c);
+            }
+        }
+    }
+    contacts[i] = best;
+}

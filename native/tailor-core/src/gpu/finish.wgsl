@@ -1,0 +1,58 @@
+// Damping stage (port of `Simulation::finish_substep`): penetrations left after the
+// iterations are pushed out, v = (x − x_start)/h, Coulomb friction for particles in contact,
+// then air damping exp(−c·h) with c the seam-closing ramp's damping before it advances.
+
+@group(0) @binding(2) var<storage, read_write> x: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> x_start: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read_write> v: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> contacts: array<Contact>;
+@group(0) @binding(6) var<storage, read> colliders: array<Collider>;
+@group(0) @binding(7) var<storage, read> particles: array<Particle>;
+
+// Port of `contacts::coulomb`.
+fn coulomb(v: vec3<f32>, n: vec3<f32>, dvn: f32, mu_s: f32, mu_k: f32) -> vec3<f32> {
+    let vn = n * dot(v, n);
+    let vt = v - vn;
+    let lt = length(vt);
+    if (lt <= mu_s * dvn) {
+        return vn;
+    }
+    return vn + vt * max(1.0 - mu_k * dvn / lt, 0.0);
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= params.n) {
+        return;
+    }
+    var p = x[i].xyz;
+    if (params.n_colliders > 0u && particles[i].pinned == 0u) {
+        // `contacts::resolve_penetrations`, colliders in order.
+        var touched = false;
+        for (var c = 0u; c < params.n_colliders; c++) {
+            let dn = collider_distance(colliders[c], p);
+            if (dn.w < params.thickness) {
+                p += dn.xyz * (params.thickness - dn.w);
+                touched = true;
+            }
+        }
+        if (touched) {
+            x[i] = vec4<f32>(p, 0.0);
+        }
+    }
+    let xs = x_start[i].xyz;
+    var vel = (p - xs) * params.inv_h;
+    let ct = contacts[i];
+    if (ct.collider != NO_COLLIDER) {
+        // The prediction y as `predict` computed it (contacts never involve pinned particles).
+        let y = xs + v[i].xyz * params.h + params.gravity * (params.h * params.h);
+        let v_pred = (y - xs) * params.inv_h;
+        let dvn = max(dot(vel - v_pred, ct.normal), 0.0);
+        let col = colliders[ct.collider];
+        vel = coulomb(vel, ct.normal, dvn, col.static_friction, col.kinetic_friction);
+    }
+    let c = ramp_damping(state.phase, state.elapsed);
+    let f = exp(-c * params.h);
+    v[i] = vec4<f32>(vel * f, 0.0);
+}

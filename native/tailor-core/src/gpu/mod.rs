@@ -1,0 +1,802 @@
+//! The per-frame solve on the GPU (feature `gpu`): wgpu compute shaders in WGSL running the
+//! same substeps as [`Simulation::step`](crate::solver::Simulation::step).
+//!
+//! Each stage is one WGSL file with its host side beside it (`predict`, `contacts`, `project_triangles`,
+//! `project_stencils`, `gauss_seidel`, `chebyshev`, `finish`, `ramp`; `common` holds the shared structs). Every WGSL
+//! struct has a `#[repr(C)]` [`bytemuck::Pod`] mirror whose size is checked against naga's
+//! layout in the unit tests, which validate every shader without a GPU.
+//!
+//! **What lives where.** The model (matrix, colouring, slot layout, triangles, seam pairs) and
+//! the whole moving state (positions, velocities, prediction, right-hand side, slots,
+//! Chebyshev history, the iteration state and the seam-closing ramp) stay on the GPU across
+//! substeps and frames. The CPU prepares derived data exactly as the CPU step would
+//! ([`Simulation::gpu_view`](crate::solver::Simulation::gpu_view): colouring, diagonal, the
+//! measured Chebyshev ρ), uploads it once (again only after an edit, reusing the buffers when
+//! they are large enough), then each frame records every substep's dispatches into one
+//! command buffer, submits it, and reads back positions plus a 48-byte state (residual, seam
+//! gap, ramp phase) once. Velocities are read back only on request.
+//!
+//! **Same physics.** Prediction with pins; stretch and shear projections (ported line for line
+//! from `constraints/triangle.rs`) and curved (creased-rest) bending and seam-hinge stencils;
+//! contacts with analytic colliders (plane, sphere, capsule: detection every iteration, the
+//! penalty term in the row solve, penetration resolution and Coulomb friction after the
+//! iterations); Gauss-Seidel one dispatch per colour (a colour's rows are
+//! independent, so the order inside a dispatch does not matter and the only differences from
+//! the CPU are f32 rounding, e.g. fused multiply-adds); Chebyshev with the CPU's measured ρ and
+//! its growth restart, driven by an on-GPU reduction of the update norm; velocities and air
+//! damping with the seam-closing ramp advanced on the GPU from an on-GPU seam-gap reduction.
+//!
+//! **Not yet on the GPU** (a [`Solver`](crate::solver::Solver) asked for the GPU falls back to
+//! the CPU with a warning): mesh colliders and self-collision (they need the spatial hash on
+//! the GPU; they are not part of `Simulation` yet either), the Jacobi method, and the early stop on `tolerance` (it would need a
+//! readback per iteration). Flat bending and seams are linear, so they are fully in the matrix
+//! and need no GPU kernel.
+
+pub mod chebyshev;
+pub mod common;
+pub mod contacts;
+pub mod finish;
+pub mod gauss_seidel;
+pub mod predict;
+pub mod project_stencils;
+pub mod project_triangles;
+pub mod ramp;
+
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use bytemuck::Zeroable;
+
+use crate::error::TailorError;
+use crate::solver::damping::{Ramp, RampPhase};
+use crate::solver::settings::Method;
+use crate::solver::{ActiveBackend, Simulation, SolverView, StepStats};
+
+use common::{
+    Collider, Contact, Params, StepState, KIND_CAPSULE, KIND_PLANE, KIND_SPHERE, PHASE_CLOSING, PHASE_DONE,
+    PHASE_RELEASING,
+};
+use gauss_seidel::ColourRange;
+use predict::Particle;
+
+/// Set to `1` to make adapter discovery fail (tests of the CPU fallback).
+pub const FORCE_NO_ADAPTER_ENV: &str = "TAILOR_GPU_FORCE_NO_ADAPTER";
+
+/// How the GPU solver is created.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct GpuOptions {
+    /// Behave as if no adapter existed (also enabled by [`FORCE_NO_ADAPTER_ENV`]).
+    pub force_no_adapter: bool,
+}
+
+/// Why a GPU step did not happen.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GpuFailure {
+    /// The step itself failed as it would on the CPU (it diverged); the state was rolled back.
+    Step(TailorError),
+    /// The scene uses something the GPU path does not implement yet.
+    Unsupported(String),
+    /// No adapter, a device error or a lost device.
+    Device(String),
+}
+
+impl std::fmt::Display for GpuFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            GpuFailure::Step(e) => write!(f, "{e}"),
+            GpuFailure::Unsupported(s) => write!(f, "not supported on the GPU yet: {s}"),
+            GpuFailure::Device(s) => write!(f, "GPU device: {s}"),
+        }
+    }
+}
+
+/// Every GPU buffer the stages bind (names match the WGSL variables).
+pub struct Buffers {
+    pub params: wgpu::Buffer,
+    pub state: wgpu::Buffer,
+    pub particles: wgpu::Buffer,
+    pub x: wgpu::Buffer,
+    pub v: wgpu::Buffer,
+    pub x_start: wgpu::Buffer,
+    pub rhs: wgpu::Buffer,
+    pub prev: wgpu::Buffer,
+    pub cur: wgpu::Buffer,
+    pub slots: wgpu::Buffer,
+    pub norms: wgpu::Buffer,
+    pub idx: wgpu::Buffer,
+    pub fdata: wgpu::Buffer,
+    pub colours: wgpu::Buffer,
+    pub contacts: wgpu::Buffer,
+    pub colliders: wgpu::Buffer,
+    x_backup: wgpu::Buffer,
+    v_backup: wgpu::Buffer,
+    state_backup: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    caps: Capacities,
+}
+
+/// Element capacities of the size-dependent buffers; buffers are reused while they fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Capacities {
+    n: usize,
+    slots: usize,
+    idx: usize,
+    fdata: usize,
+    colours: usize,
+    colliders: usize,
+}
+
+impl Capacities {
+    fn fits(&self, need: &Capacities) -> bool {
+        need.n <= self.n
+            && need.slots <= self.slots
+            && need.idx <= self.idx
+            && need.fdata <= self.fdata
+            && need.colours <= self.colours
+            && need.colliders <= self.colliders
+    }
+}
+
+const VEC4: u64 = 16;
+const STATE_BYTES: u64 = std::mem::size_of::<StepState>() as u64;
+
+impl Buffers {
+    fn new(device: &wgpu::Device, caps: Capacities, colour_stride: u64) -> Self {
+        use wgpu::BufferUsages as U;
+        let storage = U::STORAGE | U::COPY_DST | U::COPY_SRC;
+        // wgpu rejects zero-sized bindings: every buffer holds at least one element.
+        let mk = |label: &str, bytes: u64, usage: U| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(16).next_multiple_of(4),
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let n = caps.n as u64;
+        Self {
+            params: mk("params", std::mem::size_of::<Params>() as u64, U::UNIFORM | U::COPY_DST),
+            state: mk("state", STATE_BYTES, storage),
+            particles: mk("particles", n * std::mem::size_of::<Particle>() as u64, storage),
+            x: mk("x", n * VEC4, storage),
+            v: mk("v", n * VEC4, storage),
+            x_start: mk("x_start", n * VEC4, storage),
+            rhs: mk("rhs", n * VEC4, storage),
+            prev: mk("prev", n * VEC4, storage),
+            cur: mk("cur", n * VEC4, storage),
+            slots: mk("slots", caps.slots as u64 * VEC4, storage),
+            norms: mk("norms", n * 8, storage),
+            idx: mk("idx", caps.idx as u64 * 4, storage),
+            fdata: mk("fdata", caps.fdata as u64 * 4, storage),
+            colours: mk("colours", caps.colours.max(1) as u64 * colour_stride, U::UNIFORM | U::COPY_DST),
+            contacts: mk("contacts", n * std::mem::size_of::<Contact>() as u64, storage),
+            colliders: mk("colliders", caps.colliders.max(1) as u64 * std::mem::size_of::<Collider>() as u64, storage),
+            x_backup: mk("x_backup", n * VEC4, storage),
+            v_backup: mk("v_backup", n * VEC4, storage),
+            state_backup: mk("state_backup", STATE_BYTES, storage),
+            readback: mk("readback", n * VEC4 + STATE_BYTES, U::MAP_READ | U::COPY_DST),
+            caps,
+        }
+    }
+}
+
+struct Pipelines {
+    predict: wgpu::ComputePipeline,
+    detect: wgpu::ComputePipeline,
+    project: wgpu::ComputePipeline,
+    project_stencils: wgpu::ComputePipeline,
+    gauss_seidel: wgpu::ComputePipeline,
+    reduce: wgpu::ComputePipeline,
+    extrapolate: wgpu::ComputePipeline,
+    finish: wgpu::ComputePipeline,
+    ramp: wgpu::ComputePipeline,
+}
+
+struct BindGroups {
+    predict: wgpu::BindGroup,
+    detect: wgpu::BindGroup,
+    project: wgpu::BindGroup,
+    project_stencils: wgpu::BindGroup,
+    gauss_seidel: Vec<wgpu::BindGroup>,
+    reduce: wgpu::BindGroup,
+    extrapolate: wgpu::BindGroup,
+    finish: wgpu::BindGroup,
+    ramp: wgpu::BindGroup,
+}
+
+/// What the current upload was made for.
+struct Uploaded {
+    n: usize,
+    n_tris: usize,
+    n_curved: usize,
+    n_colliders: usize,
+    colours: Vec<ColourRange>,
+    h: f32,
+    rho: f32,
+    method: Method,
+}
+
+/// The GPU backend: a device, the compiled stages, and the model and state once uploaded.
+pub struct GpuSolver {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    info: wgpu::AdapterInfo,
+    pipelines: Pipelines,
+    buffers: Option<Buffers>,
+    binds: Option<BindGroups>,
+    uploaded: Option<Uploaded>,
+    dirty: bool,
+    /// Errors wgpu reports asynchronously (validation, out of memory, device lost).
+    errors: Arc<Mutex<Option<String>>>,
+}
+
+fn compile(device: &wgpu::Device, label: &str, src: &str, entry: &str) -> wgpu::ComputePipeline {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(src.into()),
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+fn bind(device: &wgpu::Device, p: &wgpu::ComputePipeline, label: &str, e: &[(u32, &wgpu::Buffer)]) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> =
+        e.iter().map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &p.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
+fn groups(count: usize, size: u32) -> u32 {
+    (count as u32).div_ceil(size).max(1)
+}
+
+fn phase_to_gpu(p: RampPhase) -> (u32, f32) {
+    match p {
+        RampPhase::Closing => (PHASE_CLOSING, 0.0),
+        RampPhase::Releasing { elapsed } => (PHASE_RELEASING, elapsed),
+        RampPhase::Done => (PHASE_DONE, 0.0),
+    }
+}
+
+fn phase_from_gpu(phase: u32, elapsed: f32) -> RampPhase {
+    match phase {
+        PHASE_CLOSING => RampPhase::Closing,
+        PHASE_RELEASING => RampPhase::Releasing { elapsed },
+        _ => RampPhase::Done,
+    }
+}
+
+impl GpuSolver {
+    /// Finds an adapter and compiles the stages. `Err` names why (no adapter, device refused).
+    pub fn new(options: GpuOptions) -> Result<Self, String> {
+        let forced = options.force_no_adapter || std::env::var(FORCE_NO_ADAPTER_ENV).is_ok_and(|v| v == "1");
+        if forced {
+            return Err("no GPU adapter (forced off)".into());
+        }
+        let instance = wgpu::Instance::new(&wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all()),
+            ..Default::default()
+        });
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+        }))
+        .map_err(|e| format!("no GPU adapter: {e}"))?;
+        let info = adapter.get_info();
+        // The stages bind up to 8 storage buffers; ask for what the adapter has (at least the
+        // WebGPU defaults) rather than the downlevel minimum.
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("tailor"),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| format!("GPU device request failed on {}: {e}", info.name))?;
+        let errors = Arc::new(Mutex::new(None::<String>));
+        {
+            let errors = errors.clone();
+            device.on_uncaptured_error(Box::new(move |e| {
+                if let Ok(mut slot) = errors.lock() {
+                    slot.get_or_insert_with(|| e.to_string());
+                }
+            }));
+        }
+        {
+            let errors = errors.clone();
+            device.set_device_lost_callback(move |_, msg| {
+                if let Ok(mut slot) = errors.lock() {
+                    slot.get_or_insert_with(|| format!("device lost: {msg}"));
+                }
+            });
+        }
+        device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pipelines = Pipelines {
+            predict: compile(&device, "predict", predict::SOURCE, predict::ENTRY),
+            detect: compile(&device, "contacts", contacts::SOURCE, contacts::ENTRY),
+            project: compile(&device, "project_triangles", project_triangles::SOURCE, project_triangles::ENTRY),
+            project_stencils: compile(&device, "project_stencils", project_stencils::SOURCE, project_stencils::ENTRY),
+            gauss_seidel: compile(&device, "gauss_seidel", gauss_seidel::SOURCE, gauss_seidel::ENTRY),
+            reduce: compile(&device, "reduce_omega", chebyshev::SOURCE, chebyshev::REDUCE_ENTRY),
+            extrapolate: compile(&device, "extrapolate", chebyshev::SOURCE, chebyshev::EXTRAPOLATE_ENTRY),
+            finish: compile(&device, "finish", finish::SOURCE, finish::ENTRY),
+            ramp: compile(&device, "ramp", ramp::SOURCE, ramp::ENTRY),
+        };
+        if let Some(e) = pollster::block_on(device.pop_error_scope()) {
+            return Err(format!("compiling the shaders failed on {}: {e}", info.name));
+        }
+        Ok(Self { device, queue, info, pipelines, buffers: None, binds: None, uploaded: None, dirty: true, errors })
+    }
+
+    /// The adapter in use (name, backend, device type, driver).
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.info
+    }
+
+    /// Whether the adapter is a software rasteriser (lavapipe, SwiftShader, WARP).
+    pub fn is_software(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
+    /// The simulation was edited on the CPU: upload everything again before the next step.
+    pub fn mark_dirty(&mut self) {
+        self.dirty = true;
+    }
+
+    fn take_error(&self) -> Option<String> {
+        self.errors.lock().ok().and_then(|mut e| e.take())
+    }
+
+    /// Why `sim` cannot run on the GPU yet, if it cannot (call after `gpu_view`).
+    fn unsupported(view: &SolverView<'_>) -> Option<String> {
+        if view.settings.method == Method::Jacobi {
+            return Some("the Jacobi method".into());
+        }
+        if view.settings.tolerance > 0.0 {
+            return Some("the early stop on `tolerance` (needs a readback per iteration)".into());
+        }
+        // One dimension of dispatches covers 65535 workgroups of 64.
+        let m = view.model;
+        if view.x.len() > 65_535 * 64 || m.triangles.len() > 65_535 * 64 || m.slots.curved.len() > 65_535 * 64 {
+            return Some(format!("more than {} particles or triangles", 65_535 * 64));
+        }
+        None
+    }
+
+    /// Uploads the model and state (reusing buffers that are large enough).
+    fn upload(&mut self, view: &SolverView<'_>) -> Result<(), GpuFailure> {
+        if let Some(why) = Self::unsupported(view) {
+            return Err(GpuFailure::Unsupported(why));
+        }
+        let m = view.model;
+        let n = m.n();
+        let nt = m.triangles.len();
+        let sp = &m.seam_pairs;
+        let mat = &m.matrix32;
+        let lay = &m.slots;
+
+        // Packed index data, sections in the order of `Params`.
+        let mut idx: Vec<u32> = Vec::new();
+        let base = |idx: &mut Vec<u32>, data: &[u32]| {
+            let b = idx.len() as u32;
+            idx.extend_from_slice(data);
+            b
+        };
+        let mut p = Params::zeroed();
+        p.mat_off = base(&mut idx, &mat.offsets);
+        p.mat_cols = base(&mut idx, &mat.cols);
+        p.slot_off = base(&mut idx, &lay.particle_offsets);
+        p.slot_idx = base(&mut idx, &lay.particle_slots);
+        let tv: Vec<u32> = m.triangles.verts.iter().flatten().copied().collect();
+        p.tri_verts = base(&mut idx, &tv);
+        p.seam_off = base(&mut idx, &sp.offsets);
+        p.seam_verts = base(&mut idx, &sp.verts);
+        let mut colours = Vec::with_capacity(m.colouring.groups.len());
+        let order: Vec<u32> = m.colouring.groups.iter().flatten().copied().collect();
+        let mut start = 0u32;
+        for g in &m.colouring.groups {
+            colours.push(ColourRange { start, count: g.len() as u32, _pad0: 0, _pad1: 0 });
+            start += g.len() as u32;
+        }
+        p.order = base(&mut idx, &order);
+        // Curved stencils as one compressed-row set, in slot order.
+        let (mut c_off, mut c_verts, mut c_coefs, mut c_wr) = (vec![0u32], Vec::new(), Vec::new(), Vec::new());
+        for &(set_id, st) in &lay.curved {
+            let set = m.stencil_set(set_id);
+            let st = st as usize;
+            for t in set.range(st) {
+                c_verts.push(set.verts[t]);
+                c_coefs.push(set.coefs[t]);
+            }
+            c_off.push(c_verts.len() as u32);
+            c_wr.extend_from_slice(&[set.weights[st], set.rest[st]]);
+        }
+        p.curved_off = base(&mut idx, &c_off);
+        p.curved_verts = base(&mut idx, &c_verts);
+
+        let mut fdata: Vec<f32> = Vec::new();
+        let fbase = |f: &mut Vec<f32>, data: &[f32]| {
+            let b = f.len() as u32;
+            f.extend_from_slice(data);
+            b
+        };
+        p.mat_vals = fbase(&mut fdata, &mat.vals);
+        p.diag = fbase(&mut fdata, view.diag);
+        let mut td = Vec::with_capacity(nt * project_triangles::TRI_FLOATS);
+        for t in 0..nt {
+            let g = m.triangles.g[t];
+            td.extend_from_slice(&[g[0][0], g[0][1], g[1][0], g[1][1], g[2][0], g[2][1]]);
+            td.push(m.triangles.w_stretch[t]);
+            td.push(m.triangles.w_shear[t]);
+        }
+        p.tri_data = fbase(&mut fdata, &td);
+        p.seam_coefs = fbase(&mut fdata, &sp.coefs);
+        p.curved_coefs = fbase(&mut fdata, &c_coefs);
+        p.curved_wr = fbase(&mut fdata, &c_wr);
+        p.n_curved = lay.curved.len() as u32;
+        let colliders: Vec<Collider> = view
+            .colliders
+            .iter()
+            .map(|c| {
+                let (kind, p0, p1, radius) = match c.shape {
+                    crate::solver::Shape::Plane { point, normal } => (KIND_PLANE, point, normal, 0.0),
+                    crate::solver::Shape::Sphere { center, radius } => (KIND_SPHERE, center, [0.0; 3], radius),
+                    crate::solver::Shape::Capsule { a, b, radius } => (KIND_CAPSULE, a, b, radius),
+                };
+                Collider {
+                    p0,
+                    radius,
+                    p1,
+                    kind,
+                    static_friction: c.static_friction,
+                    kinetic_friction: c.kinetic_friction,
+                    _pad0: 0,
+                    _pad1: 0,
+                }
+            })
+            .collect();
+        p.n_colliders = colliders.len() as u32;
+        p.thickness = view.thickness;
+
+        let s = view.settings;
+        let h = view.h;
+        p.gravity = s.gravity;
+        p.h = h;
+        p.inv_h = 1.0 / h;
+        p.inv_h2 = 1.0 / (h * h);
+        p.rho = view.rho;
+        p.n = n as u32;
+        p.n_tris = nt as u32;
+        p.n_seam_pairs = sp.len() as u32;
+        p.delay = s.chebyshev.delay;
+        p.ramp_enabled = s.ramp.enabled as u32;
+        p.air_damping = s.air_damping;
+        p.closing_damping = s.ramp.closing_damping;
+        p.gap_threshold = s.ramp.gap_threshold;
+        p.closed_fraction = s.ramp.closed_fraction;
+        p.release_time = s.ramp.release_time;
+        p.has_seams = (!sp.is_empty()) as u32;
+
+        let need = Capacities {
+            n,
+            slots: lay.total,
+            idx: idx.len(),
+            fdata: fdata.len(),
+            colours: colours.len(),
+            colliders: colliders.len(),
+        };
+        let stride = self.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
+        let realloc = self.buffers.as_ref().is_none_or(|b| !b.caps.fits(&need));
+        if realloc {
+            self.buffers = Some(Buffers::new(&self.device, need, stride));
+            self.binds = None;
+        }
+        let b = self.buffers.as_ref().ok_or_else(|| GpuFailure::Device("buffers missing".into()))?;
+        let q = &self.queue;
+        let vec4 = |s: &crate::solver::Vec3Soa| -> Vec<[f32; 4]> {
+            (0..s.len()).map(|i| [s.x[i], s.y[i], s.z[i], 0.0]).collect()
+        };
+        let particles: Vec<Particle> = (0..n)
+            .map(|i| Particle {
+                b_const: m.b_const.get(i).to_array(),
+                mass: m.mass[i],
+                pin_target: view.pin_target.get(i).to_array(),
+                pinned: m.pinned[i] as u32,
+            })
+            .collect();
+        let (phase, elapsed) = phase_to_gpu(view.ramp_phase);
+        let state = StepState { omega: 1.0, phase, elapsed, ..StepState::zeroed() };
+        q.write_buffer(&b.params, 0, bytemuck::bytes_of(&p));
+        q.write_buffer(&b.state, 0, bytemuck::bytes_of(&state));
+        q.write_buffer(&b.particles, 0, bytemuck::cast_slice(&particles));
+        q.write_buffer(&b.x, 0, bytemuck::cast_slice(&vec4(view.x)));
+        q.write_buffer(&b.v, 0, bytemuck::cast_slice(&vec4(view.v)));
+        // Pinned particles are in no colour, so their update norms must read zero.
+        q.write_buffer(&b.norms, 0, bytemuck::cast_slice(&vec![[0.0f32; 2]; n]));
+        let no_contact = Contact { collider: u32::MAX, ..Contact::zeroed() };
+        q.write_buffer(&b.contacts, 0, bytemuck::cast_slice(&vec![no_contact; n]));
+        if !colliders.is_empty() {
+            q.write_buffer(&b.colliders, 0, bytemuck::cast_slice(&colliders));
+        }
+        if !idx.is_empty() {
+            q.write_buffer(&b.idx, 0, bytemuck::cast_slice(&idx));
+        }
+        if !fdata.is_empty() {
+            q.write_buffer(&b.fdata, 0, bytemuck::cast_slice(&fdata));
+        }
+        let mut cbytes = vec![0u8; colours.len().max(1) * stride as usize];
+        for (c, r) in colours.iter().enumerate() {
+            let o = c * stride as usize;
+            cbytes[o..o + 16].copy_from_slice(bytemuck::bytes_of(r));
+        }
+        q.write_buffer(&b.colours, 0, &cbytes);
+
+        // Bind groups depend on the buffers and on the colour count only.
+        let rebind = self.binds.as_ref().is_none_or(|g| g.gauss_seidel.len() != colours.len());
+        if rebind {
+            let d = &self.device;
+            let pl = &self.pipelines;
+            let gs_common = gauss_seidel::entries(b);
+            let gauss_seidel = (0..colours.len())
+                .map(|c| {
+                    let mut entries: Vec<wgpu::BindGroupEntry> = gs_common
+                        .iter()
+                        .map(|&(binding, buf)| wgpu::BindGroupEntry { binding, resource: buf.as_entire_binding() })
+                        .collect();
+                    entries.push(wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &b.colours,
+                            offset: c as u64 * stride,
+                            size: wgpu::BufferSize::new(16),
+                        }),
+                    });
+                    d.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("gauss_seidel colour"),
+                        layout: &pl.gauss_seidel.get_bind_group_layout(0),
+                        entries: &entries,
+                    })
+                })
+                .collect();
+            self.binds = Some(BindGroups {
+                predict: bind(d, &pl.predict, "predict", &predict::entries(b)),
+                detect: bind(d, &pl.detect, "contacts", &contacts::entries(b)),
+                project: bind(d, &pl.project, "project_triangles", &project_triangles::entries(b)),
+                project_stencils: bind(d, &pl.project_stencils, "project_stencils", &project_stencils::entries(b)),
+                gauss_seidel,
+                reduce: bind(d, &pl.reduce, "reduce_omega", &chebyshev::reduce_entries(b)),
+                extrapolate: bind(d, &pl.extrapolate, "extrapolate", &chebyshev::extrapolate_entries(b)),
+                finish: bind(d, &pl.finish, "finish", &finish::entries(b)),
+                ramp: bind(d, &pl.ramp, "ramp", &ramp::entries(b)),
+            });
+        }
+        self.uploaded = Some(Uploaded {
+            n,
+            n_tris: nt,
+            n_curved: lay.curved.len(),
+            n_colliders: colliders.len(),
+            colours,
+            h,
+            rho: view.rho,
+            method: s.method,
+        });
+        self.dirty = false;
+        Ok(())
+    }
+
+    /// Advances `sim` by `dt` on the GPU; afterwards `sim`'s positions, ramp and clock are
+    /// current (its velocities only after [`GpuSolver::sync_velocities`]). On divergence the
+    /// GPU state is rolled back and [`GpuFailure::Step`] returned, as the CPU step does.
+    pub fn step(&mut self, sim: &mut Simulation, dt: f32) -> Result<StepStats, GpuFailure> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(GpuFailure::Step(TailorError::setting("dt", dt, "the time step must be positive and finite")));
+        }
+        let t0 = Instant::now();
+        let substeps = sim.settings().substeps;
+        let iterations = sim.settings().iterations;
+        let h = dt / substeps as f32;
+        let stale = self.uploaded.as_ref().is_none_or(|u| u.h != h || u.method != sim.settings().method);
+        if self.dirty || stale {
+            if !self.dirty {
+                // A new substep length re-uploads from the CPU copy: bring its velocities up
+                // to date first (the GPU's are the current ones).
+                self.sync_velocities(sim)?;
+            }
+            let view = sim.gpu_view(h);
+            self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let r = self.upload(&view);
+            if let Some(e) = pollster::block_on(self.device.pop_error_scope()) {
+                self.dirty = true;
+                return Err(GpuFailure::Device(e.to_string()));
+            }
+            if r.is_err() {
+                self.dirty = true;
+            }
+            r?;
+        }
+        let (Some(b), Some(g), Some(u)) = (&self.buffers, &self.binds, &self.uploaded) else {
+            return Err(GpuFailure::Device("nothing uploaded".into()));
+        };
+        let n = u.n;
+        let accelerate = u.method == Method::Chebyshev;
+        let pl = &self.pipelines;
+        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let xbytes = n as u64 * VEC4;
+        enc.copy_buffer_to_buffer(&b.x, 0, &b.x_backup, 0, xbytes);
+        enc.copy_buffer_to_buffer(&b.v, 0, &b.v_backup, 0, xbytes);
+        enc.copy_buffer_to_buffer(&b.state, 0, &b.state_backup, 0, STATE_BYTES);
+        {
+            // One pass for the whole frame: wgpu orders successive dispatches that share
+            // storage buffers, so colours and stages see each other's writes.
+            let mut pass = enc
+                .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("substeps"), timestamp_writes: None });
+            for _ in 0..substeps {
+                pass.set_pipeline(&pl.predict);
+                pass.set_bind_group(0, &g.predict, &[]);
+                pass.dispatch_workgroups(groups(n, predict::WORKGROUP), 1, 1);
+                for _ in 0..iterations {
+                    if u.n_colliders > 0 {
+                        pass.set_pipeline(&pl.detect);
+                        pass.set_bind_group(0, &g.detect, &[]);
+                        pass.dispatch_workgroups(groups(n, contacts::WORKGROUP), 1, 1);
+                    }
+                    pass.set_pipeline(&pl.project);
+                    pass.set_bind_group(0, &g.project, &[]);
+                    pass.dispatch_workgroups(groups(u.n_tris, project_triangles::WORKGROUP), 1, 1);
+                    if u.n_curved > 0 {
+                        pass.set_pipeline(&pl.project_stencils);
+                        pass.set_bind_group(0, &g.project_stencils, &[]);
+                        pass.dispatch_workgroups(groups(u.n_curved, project_stencils::WORKGROUP), 1, 1);
+                    }
+                    pass.set_pipeline(&pl.gauss_seidel);
+                    for (c, range) in u.colours.iter().enumerate() {
+                        pass.set_bind_group(0, &g.gauss_seidel[c], &[]);
+                        pass.dispatch_workgroups(groups(range.count as usize, gauss_seidel::WORKGROUP), 1, 1);
+                    }
+                    pass.set_pipeline(&pl.reduce);
+                    pass.set_bind_group(0, &g.reduce, &[]);
+                    pass.dispatch_workgroups(1, 1, 1);
+                    if accelerate {
+                        pass.set_pipeline(&pl.extrapolate);
+                        pass.set_bind_group(0, &g.extrapolate, &[]);
+                        pass.dispatch_workgroups(groups(n, chebyshev::WORKGROUP), 1, 1);
+                    }
+                }
+                pass.set_pipeline(&pl.finish);
+                pass.set_bind_group(0, &g.finish, &[]);
+                pass.dispatch_workgroups(groups(n, finish::WORKGROUP), 1, 1);
+                pass.set_pipeline(&pl.ramp);
+                pass.set_bind_group(0, &g.ramp, &[]);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+        }
+        enc.copy_buffer_to_buffer(&b.x, 0, &b.readback, 0, xbytes);
+        enc.copy_buffer_to_buffer(&b.state, 0, &b.readback, xbytes, STATE_BYTES);
+        self.queue.submit([enc.finish()]);
+        let bytes = self.read(xbytes + STATE_BYTES)?;
+        let (xs, st) = bytes.split_at(xbytes as usize);
+        let x: &[[f32; 4]] = bytemuck::cast_slice(xs);
+        let state: StepState = *bytemuck::from_bytes(st);
+        if x.iter().any(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite())) {
+            self.restore_backup(xbytes)?;
+            return Err(GpuFailure::Step(TailorError::Diverged {
+                reason: "positions became non-finite on the GPU; the state was rolled back (lower the time step or \
+                         stiffness, or raise substeps)"
+                    .into(),
+            }));
+        }
+        let phase = phase_from_gpu(state.phase, state.elapsed);
+        sim.accept_backend_state(Some(x), phase, h as f64 * substeps as f64);
+        let mut stats = StepStats {
+            substeps,
+            iterations: substeps * iterations,
+            residual: state.residual,
+            colours: u.colours.len(),
+            rho: if accelerate { u.rho } else { 0.0 },
+            damping: Ramp { phase }.damping(sim.settings()),
+            ramp_phase: phase,
+            seam_gap_max: state.gap_max,
+            seam_closed_fraction: state.closed_fraction,
+            contacts: state.contacts as usize,
+            backend: ActiveBackend::Gpu,
+            warning: None,
+            ..Default::default()
+        };
+        // Stages are not timed separately on the GPU (no timestamp queries): the whole frame,
+        // upload and readback included, is reported as the global step.
+        stats.timings.global = t0.elapsed().as_secs_f64();
+        Ok(stats)
+    }
+
+    /// Copies the backups of x, v and the state back (after a diverged frame).
+    fn restore_backup(&mut self, xbytes: u64) -> Result<(), GpuFailure> {
+        let b = self.buffers.as_ref().ok_or_else(|| GpuFailure::Device("buffers missing".into()))?;
+        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("rollback") });
+        enc.copy_buffer_to_buffer(&b.x_backup, 0, &b.x, 0, xbytes);
+        enc.copy_buffer_to_buffer(&b.v_backup, 0, &b.v, 0, xbytes);
+        enc.copy_buffer_to_buffer(&b.state_backup, 0, &b.state, 0, STATE_BYTES);
+        self.queue.submit([enc.finish()]);
+        self.wait()
+    }
+
+    fn wait(&self) -> Result<(), GpuFailure> {
+        self.device.poll(wgpu::PollType::Wait).map_err(|e| GpuFailure::Device(e.to_string()))?;
+        match self.take_error() {
+            Some(e) => Err(GpuFailure::Device(e)),
+            None => Ok(()),
+        }
+    }
+
+    /// Maps the first `len` bytes of the readback buffer (after the submitted copies).
+    fn read(&self, len: u64) -> Result<Vec<u8>, GpuFailure> {
+        let b = self.buffers.as_ref().ok_or_else(|| GpuFailure::Device("buffers missing".into()))?;
+        let slice = b.readback.slice(..len);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        match rx.recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return Err(GpuFailure::Device(format!("readback failed: {e}"))),
+            Err(_) => return Err(GpuFailure::Device("readback never completed".into())),
+        }
+        let out = slice.get_mapped_range().to_vec();
+        b.readback.unmap();
+        Ok(out)
+    }
+
+    /// Downloads the velocities into `sim` (they are not read back every frame).
+    pub fn sync_velocities(&mut self, sim: &mut Simulation) -> Result<(), GpuFailure> {
+        let (Some(b), Some(u)) = (&self.buffers, &self.uploaded) else {
+            return Ok(());
+        };
+        if self.dirty || u.n != sim.num_particles() {
+            // The CPU copy is the newer one (an edit since the last upload).
+            return Ok(());
+        }
+        let bytes = u.n as u64 * VEC4;
+        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("velocities") });
+        enc.copy_buffer_to_buffer(&b.v, 0, &b.readback, 0, bytes);
+        self.queue.submit([enc.finish()]);
+        let data = self.read(bytes)?;
+        sim.accept_backend_velocities(bytemuck::cast_slice(&data));
+        Ok(())
+    }
+
+    /// Runs one frame's worth of dispatches (as many as `step` records for these counts) of
+    /// one workgroup each and returns its wall time: the fixed cost of a frame, for benchmarks.
+    /// It scribbles on the GPU state, so the next step uploads again from the simulation
+    /// (call [`GpuSolver::sync_velocities`] first to keep the velocities).
+    pub fn dispatch_overhead(&mut self, substeps: u32, iterations: u32, colours: usize) -> Result<f64, GpuFailure> {
+        let (Some(_), Some(g)) = (&self.buffers, &self.binds) else {
+            return Err(GpuFailure::Device("nothing uploaded".into()));
+        };
+        let pl = &self.pipelines;
+        let t0 = Instant::now();
+        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("empty") });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
+            // The extrapolation kernel returns at once for indices past n: with n read from the
+            // uniform, a single workgroup per dispatch measures launch cost only.
+            pass.set_pipeline(&pl.extrapolate);
+            pass.set_bind_group(0, &g.extrapolate, &[]);
+            let per_substep = 2 + iterations as usize * (3 + colours) + 2;
+            for _ in 0..substeps as usize * per_substep {
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+        }
+        self.queue.submit([enc.finish()]);
+        self.dirty = true;
+        self.wait()?;
+        Ok(t0.elapsed().as_secs_f64())
+    }
+}

@@ -1,0 +1,27 @@
+//! Host side of `project_triangles.wgsl` (the local step for stretch and shear).
+
+use super::Buffers;
+
+pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("project_triangles.wgsl"));
+pub const ENTRY: &str = "main";
+pub const WORKGROUP: u32 = 64;
+
+/// Floats per triangle in the packed `fdata` section: g[0..3][0..2] row-major, then the stretch
+/// and shear weights.
+pub const TRI_FLOATS: usize = 8;
+
+pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
+    vec![(0, &b.params), (2, &b.idx), (3, &b.fdata), (4, &b.x), (5, &b.slots)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::common::validate_wgsl;
+
+    #[test]
+    fn project_triangles_wgsl_validates() {
+        let m = validate_wgsl("project_triangles", SOURCE).unwrap();
+        assert!(m.entry_points.iter().any(|e| e.name == ENTRY));
+    }
+}

@@ -1,0 +1,187 @@
+//! One interface over the CPU and GPU backends: [`Solver`] owns a [`Simulation`] and steps it
+//! on the backend [`Backend`] asks for, falling back to the CPU (never failing) when the GPU
+//! cannot run the scene, with the reason in [`StepStats::warning`].
+
+use crate::error::Result;
+
+use super::simulation::Simulation;
+use super::soa::Vec3Soa;
+use super::stats::{ActiveBackend, StepStats};
+
+/// Which backend steps the simulation.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Backend {
+    /// The GPU for large scenes on a hardware adapter, else the CPU (see [`AUTO_GPU_MIN_PARTICLES`]).
+    #[default]
+    Auto,
+    Cpu,
+    /// The GPU when there is one and it supports the scene; otherwise the CPU, with a warning.
+    Gpu,
+}
+
+/// Below this many particles `Auto` stays on the CPU. Measured on lavapipe (software Vulkan on
+/// two shared cores) the GPU path never won (see `docs/gpu.md`), so `Auto` also never picks
+/// a software adapter; the threshold for hardware adapters is a placeholder until measured on
+/// one.
+pub const AUTO_GPU_MIN_PARTICLES: usize = 20_000;
+
+/// How a [`Solver`] is built.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SolverOptions {
+    pub backend: Backend,
+    /// Behave as if no GPU adapter existed (tests of the fallback; the environment variable
+    /// `TAILOR_GPU_FORCE_NO_ADAPTER=1` does the same).
+    pub force_no_adapter: bool,
+}
+
+/// A simulation and the backend that steps it.
+pub struct Solver {
+    sim: Simulation,
+    #[cfg(feature = "gpu")]
+    gpu: Option<crate::gpu::GpuSolver>,
+    warning: Option<String>,
+}
+
+impl Solver {
+    pub fn new(sim: Simulation, backend: Backend) -> Self {
+        Self::with_options(sim, SolverOptions { backend, ..Default::default() })
+    }
+
+    pub fn with_options(sim: Simulation, options: SolverOptions) -> Self {
+        let mut s = Self {
+            sim,
+            #[cfg(feature = "gpu")]
+            gpu: None,
+            warning: None,
+        };
+        s.choose(options);
+        s
+    }
+
+    #[cfg(not(feature = "gpu"))]
+    fn choose(&mut self, options: SolverOptions) {
+        if options.backend == Backend::Gpu {
+            self.warning = Some("GPU requested, but Tailor was built without the `gpu` feature; using the CPU".into());
+        }
+    }
+
+    #[cfg(feature = "gpu")]
+    fn choose(&mut self, options: SolverOptions) {
+        use crate::gpu::{GpuOptions, GpuSolver};
+        if options.backend == Backend::Cpu {
+            return;
+        }
+        if options.backend == Backend::Auto && self.sim.num_particles() < AUTO_GPU_MIN_PARTICLES {
+            return;
+        }
+        match GpuSolver::new(GpuOptions { force_no_adapter: options.force_no_adapter }) {
+            Ok(g) if options.backend == Backend::Auto && g.is_software() => {}
+            Ok(g) => self.gpu = Some(g),
+            Err(why) if options.backend == Backend::Gpu => self.warning = Some(format!("{why}; using the CPU")),
+            Err(_) => {}
+        }
+    }
+
+    /// The backend the next step will use.
+    pub fn active_backend(&self) -> ActiveBackend {
+        #[cfg(feature = "gpu")]
+        if self.gpu.is_some() {
+            return ActiveBackend::Gpu;
+        }
+        ActiveBackend::Cpu
+    }
+
+    /// Why the GPU is not in use although it was asked for, if so.
+    pub fn warning(&self) -> Option<&str> {
+        self.warning.as_deref()
+    }
+
+    /// Description of the GPU adapter in use, if any.
+    pub fn adapter(&self) -> Option<String> {
+        #[cfg(feature = "gpu")]
+        if let Some(g) = &self.gpu {
+            let i = g.adapter_info();
+            return Some(format!(
+                "{} ({:?}, {:?}, driver {} {})",
+                i.name, i.backend, i.device_type, i.driver, i.driver_info
+            ));
+        }
+        None
+    }
+
+    /// Advances by `dt` seconds on the active backend.
+    pub fn step(&mut self, dt: f32) -> Result<StepStats> {
+        #[cfg(feature = "gpu")]
+        if self.gpu.is_some() && self.sim.seams_closing() {
+            // Closing seams change their rest lengths every substep; those frames run on the
+            // CPU and the GPU takes over (re-uploaded by `edit`) once every seam has closed.
+            let mut st = self.edit(|sim| sim.step(dt))?;
+            st.warning = self.warning.clone();
+            return Ok(st);
+        }
+        #[cfg(feature = "gpu")]
+        if let Some(g) = &mut self.gpu {
+            use crate::gpu::GpuFailure;
+            match g.step(&mut self.sim, dt) {
+                Ok(mut st) => {
+                    st.warning = self.warning.clone();
+                    return Ok(st);
+                }
+                Err(GpuFailure::Step(e)) => return Err(e),
+                Err(other) => {
+                    // Keep the velocities if the device still answers; positions are current.
+                    let kept = g.sync_velocities(&mut self.sim).is_ok();
+                    let lost = if kept { "" } else { " (velocities of the last GPU frame were lost)" };
+                    self.warning = Some(format!("{other}; using the CPU{lost}"));
+                    self.gpu = None;
+                }
+            }
+        }
+        let mut st = self.sim.step(dt)?;
+        st.warning = self.warning.clone();
+        Ok(st)
+    }
+
+    /// The simulation, read-only. Positions are always current; velocities are current on the
+    /// CPU backend (use [`Solver::velocities`] otherwise).
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+
+    pub fn positions(&self) -> &Vec3Soa {
+        self.sim.positions()
+    }
+
+    /// Current velocities (downloaded from the GPU when it runs the simulation).
+    pub fn velocities(&mut self) -> &Vec3Soa {
+        self.sync_from_gpu();
+        self.sim.velocities()
+    }
+
+    /// Edits the simulation (pins, seams, settings, positions…); the GPU re-uploads afterwards.
+    pub fn edit<R>(&mut self, f: impl FnOnce(&mut Simulation) -> R) -> R {
+        self.sync_from_gpu();
+        let r = f(&mut self.sim);
+        #[cfg(feature = "gpu")]
+        if let Some(g) = &mut self.gpu {
+            g.mark_dirty();
+        }
+        r
+    }
+
+    /// Gives the simulation back (with current velocities).
+    pub fn into_simulation(mut self) -> Simulation {
+        self.sync_from_gpu();
+        self.sim
+    }
+
+    fn sync_from_gpu(&mut self) {
+        #[cfg(feature = "gpu")]
+        if let Some(g) = &mut self.gpu {
+            if let Err(e) = g.sync_velocities(&mut self.sim) {
+                self.warning = Some(format!("{e}; using the CPU"));
+                self.gpu = None;
+            }
+        }
+    }
+}

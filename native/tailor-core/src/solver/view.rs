@@ -1,0 +1,76 @@
+//! A read-only view of a prepared simulation for other backends (the GPU solver uploads from
+//! it), and the narrow write-back they need to hand their state back to the CPU.
+//!
+//! Kept apart from `simulation.rs` so that the CPU step does not grow backend concerns.
+
+use super::contacts::ImplicitCollider;
+use super::damping::RampPhase;
+use super::model::Model;
+use super::settings::SolverSettings;
+use super::simulation::Simulation;
+use super::soa::Vec3Soa;
+
+/// Everything a backend needs to run the same substeps as [`Simulation::step`].
+pub struct SolverView<'a> {
+    pub model: &'a Model,
+    pub settings: &'a SolverSettings,
+    pub x: &'a Vec3Soa,
+    pub v: &'a Vec3Soa,
+    pub pin_target: &'a Vec3Soa,
+    /// `Dᵢ = mᵢ/h² + Lᵢᵢ` for the substep length the view was prepared for.
+    pub diag: &'a [f32],
+    /// The substep length the derived data was prepared for, seconds.
+    pub h: f32,
+    /// The Chebyshev radius the CPU would use (0 when not accelerating).
+    pub rho: f32,
+    pub ramp_phase: RampPhase,
+    pub colliders: &'a [ImplicitCollider],
+    /// Collision thickness, metres.
+    pub thickness: f32,
+}
+
+impl Simulation {
+    /// Prepares the derived data for substeps of `h` seconds (matrix, colouring, diagonal,
+    /// Chebyshev's measured radius: exactly what the CPU step would use) and exposes it.
+    pub fn gpu_view(&mut self, h: f32) -> SolverView<'_> {
+        self.prepare(h);
+        let rho = match self.settings.method {
+            super::settings::Method::Chebyshev => self.cheb.rho(&self.settings.chebyshev),
+            _ => 0.0,
+        };
+        SolverView {
+            model: &self.model,
+            settings: &self.settings,
+            x: &self.x,
+            v: &self.v,
+            pin_target: &self.pin_target,
+            diag: &self.diag,
+            h: self.h_prepared,
+            rho,
+            ramp_phase: self.ramp.phase,
+            colliders: &self.colliders,
+            thickness: self.thickness,
+        }
+    }
+
+    /// Takes back positions computed elsewhere (already checked finite by the caller) and
+    /// advances the clock and the ramp as the CPU step would have.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn accept_backend_state(&mut self, x: Option<&[[f32; 4]]>, ramp: RampPhase, elapsed: f64) {
+        if let Some(x) = x {
+            for (i, p) in x.iter().enumerate() {
+                self.x.set(i, glam::Vec3::new(p[0], p[1], p[2]));
+            }
+        }
+        self.ramp.phase = ramp;
+        self.time += elapsed;
+    }
+
+    /// Takes back velocities computed elsewhere.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn accept_backend_velocities(&mut self, v: &[[f32; 4]]) {
+        for (i, p) in v.iter().enumerate() {
+            self.v.set(i, glam::Vec3::new(p[0], p[1], p[2]));
+        }
+    }
+}

@@ -1,0 +1,356 @@
+//! The GPU backend against the CPU: same trajectories up to f32 rounding, seams close, and the
+//! fallback to the CPU when there is no adapter or the scene is not supported.
+//!
+//! Tests that need an adapter print a SKIP note and pass when none is found (install Mesa's
+//! lavapipe, `mesa-vulkan-drivers`, to run them without a GPU).
+#![cfg(feature = "gpu")]
+
+use tailor_core::mesh::ClothMesh;
+use tailor_core::scenes::{rectangle, sewn_tube};
+use tailor_core::solver::{
+    ActiveBackend, Backend, Fabric, ImplicitCollider, Method, RampPhase, Shape, Simulation, Solver, SolverOptions,
+    SolverSettings,
+};
+
+/// Bound on max |Δx| between CPU and GPU positions over the first 30 frames of the hanging
+/// strip, metres, with plain Gauss-Seidel: the two differ only by f32 rounding (fused
+/// multiply-adds, `exp`). Measured on lavapipe: 3.5e-6 m.
+const TOLERANCE_GS: f32 = 2e-5;
+
+/// The same with Chebyshev. Larger, and not a rounding bound: ω restarts when the update norm
+/// grows, and the GPU sums that norm in another order, so a near tie can restart on one side
+/// only; the two then differ by the solver's own iteration error (relative residual ~1e-1
+/// at 20 iterations). Measured on lavapipe: peak 4.4e-4 m while the strip falls, 4e-5 m once
+/// it settles; 2.7e-4 m on the sewn tube. The tube also amplifies pure rounding: its
+/// weightless panels buckle as the seams pull, and with plain Gauss-Seidel it still drifts to
+/// 1.9e-4 m by frame 30, so it shares this bound.
+const TOLERANCE_CHEBYSHEV: f32 = 1e-3;
+
+fn strip() -> Simulation {
+    strip_with(Method::Chebyshev)
+}
+
+fn strip_with(method: Method) -> Simulation {
+    strip_full(method, 1e-7)
+}
+
+fn strip_full(method: Method, bend: f32) -> Simulation {
+    let (w, l, nx, ny) = (0.2f32, 1.0f32, 8usize, 40usize);
+    let (rest, tris) = rectangle(w, l, nx, ny);
+    let pos: Vec<[f32; 3]> = rest.iter().map(|r| [r[0], 0.0, r[1] - l]).collect();
+    let mesh = ClothMesh::new(pos, rest, tris).unwrap();
+    let fabric = Fabric { density: 0.2, stretch: 40.0, shear: 40.0, bend };
+    let settings = SolverSettings { air_damping: 4.0, iterations: 30, method, ..Default::default() };
+    let mut sim = Simulation::new(mesh, fabric, settings).unwrap();
+    let top: Vec<u32> = (0..=nx).map(|i| (ny * (nx + 1) + i) as u32).collect();
+    sim.pin(&top, None).unwrap();
+    sim
+}
+
+fn tube() -> Simulation {
+    tube_with(Method::Chebyshev)
+}
+
+fn tube_with(method: Method) -> Simulation {
+    let tube = sewn_tube(0.4, 0.5, 0.025, 0.1, 0.0, 2000.0).unwrap();
+    let settings = SolverSettings { gravity: [0.0, 0.0, 0.0], method, ..Default::default() };
+    let mut sim = Simulation::new(tube.mesh, Fabric::default(), settings).unwrap();
+    for s in tube.seams {
+        sim.add_seam(s).unwrap();
+    }
+    sim
+}
+
+/// A GPU solver for `sim`, or `None` (with a printed note) when there is no adapter.
+fn gpu(sim: Simulation, test: &str) -> Option<Solver> {
+    let s = Solver::new(sim, Backend::Gpu);
+    if s.active_backend() != ActiveBackend::Gpu {
+        println!("SKIP {test}: {}", s.warning().unwrap_or("no GPU adapter"));
+        return None;
+    }
+    println!("{test}: adapter {}", s.adapter().unwrap_or_default());
+    Some(s)
+}
+
+fn max_diff(a: &Simulation, b: &Simulation) -> f32 {
+    let (x, y) = (a.positions(), b.positions());
+    (0..a.num_particles()).map(|i| (x.get(i) - y.get(i)).length()).fold(0.0, f32::max)
+}
+
+/// Steps both for `frames` frames; returns the largest position difference seen.
+fn agree(cpu: &mut Simulation, gpu: &mut Solver, frames: usize) -> f32 {
+    let mut worst = 0.0f32;
+    for f in 0..frames {
+        // Frames in which seams are still being drawn together run on the CPU by design.
+        let closing = gpu.simulation().seams_closing();
+        let a = cpu.step(1.0 / 30.0).unwrap();
+        let b = gpu.step(1.0 / 30.0).unwrap();
+        if !closing {
+            assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: fell back: {:?}", b.warning);
+        }
+        assert_eq!(a.ramp_phase, b.ramp_phase, "frame {f}");
+        let d = max_diff(cpu, gpu.simulation());
+        worst = worst.max(d);
+        if f % 10 == 0 || f + 1 == frames {
+            println!("frame {f}: max |Δx| {d:.3e} m, residual cpu {:.3e} gpu {:.3e}", a.residual, b.residual);
+        }
+    }
+    worst
+}
+
+#[test]
+fn gauss_seidel_matches_the_cpu_up_to_rounding() {
+    let scenes =
+        [("strip", strip_with as fn(Method) -> Simulation, TOLERANCE_GS), ("tube", tube_with, TOLERANCE_CHEBYSHEV)];
+    for (name, make, tolerance) in scenes {
+        let Some(mut g) = gpu(make(Method::GaussSeidel), "gauss_seidel_matches") else { return };
+        let mut cpu = make(Method::GaussSeidel);
+        let worst = agree(&mut cpu, &mut g, 30);
+        println!("{name}, Gauss-Seidel: worst max |Δx| over 30 frames {worst:.3e} m");
+        assert!(worst < tolerance, "{name}: GPU and CPU differ by {worst} m");
+    }
+}
+
+#[test]
+fn hanging_strip_matches_the_cpu() {
+    let Some(mut g) = gpu(strip(), "hanging_strip_matches_the_cpu") else { return };
+    let mut cpu = strip();
+    let worst = agree(&mut cpu, &mut g, 30);
+    println!("strip: worst max |Δx| over 30 frames {worst:.3e} m");
+    assert!(worst < TOLERANCE_CHEBYSHEV, "GPU and CPU differ by {worst} m");
+    // The strip has moved (the comparison is not trivially between two resting states).
+    let moved = (0..cpu.num_particles())
+        .map(|i| cpu.positions().z[i] - strip().positions().z[i])
+        .fold(0.0f32, |a, b| a.max(b.abs()));
+    assert!(moved > 1e-3, "the strip did not move ({moved} m)");
+    // Velocities come back on request and agree too.
+    let (vc, vg) = (cpu.velocities().clone(), g.velocities().clone());
+    let dv = (0..vc.len()).map(|i| (vc.get(i) - vg.get(i)).length()).fold(0.0f32, f32::max);
+    println!("strip: max |Δv| {dv:.3e} m/s");
+    assert!(dv < 30.0 * TOLERANCE_CHEBYSHEV, "velocities differ by {dv} m/s");
+}
+
+#[test]
+fn sewn_tube_matches_the_cpu_and_closes_its_seams_on_the_gpu() {
+    let Some(mut g) = gpu(tube(), "sewn_tube") else { return };
+    let mut cpu = tube();
+    let worst = agree(&mut cpu, &mut g, 30);
+    println!("tube: worst max |Δx| over 30 frames {worst:.3e} m");
+    assert!(worst < TOLERANCE_CHEBYSHEV, "GPU and CPU differ by {worst} m");
+    let mut last = None;
+    for _ in 30..90 {
+        last = Some(g.step(1.0 / 30.0).unwrap());
+    }
+    let st = last.unwrap();
+    println!("tube on the GPU after 90 frames: gap {:.2e} m, {:?}", st.seam_gap_max, st.ramp_phase);
+    assert!(st.seam_gap_max < 1e-3, "seam gap {} m", st.seam_gap_max);
+    assert_eq!(st.ramp_phase, RampPhase::Done);
+    // The gap the GPU reduced agrees with the one the CPU measures on the downloaded positions.
+    let (gap_cpu, _) = g.simulation().seam_gaps();
+    assert!((gap_cpu - st.seam_gap_max).abs() < 1e-6, "{gap_cpu} vs {}", st.seam_gap_max);
+}
+
+/// A strip whose bending rest shape is a wave (creased rest: curved stencils, projected in
+/// the local step), with bending stiff enough to matter.
+fn wavy_strip(method: Method) -> Simulation {
+    let mut sim = strip_full(method, 1e-4);
+    let pose: Vec<[f32; 3]> = (0..sim.num_particles())
+        .map(|i| {
+            let p = sim.positions().get(i);
+            [p.x, 0.03 * (12.0 * p.z).sin(), p.z]
+        })
+        .collect();
+    sim.set_bending_rest_pose(Some(&pose)).unwrap();
+    // Start slightly out of plane: from the flat strip every hinge vector is zero and the
+    // curved projection has no direction to push along.
+    let start: Vec<[f32; 3]> = pose.iter().map(|p| [p[0], 0.2 * p[1], p[2]]).collect();
+    sim.set_positions(&start).unwrap();
+    sim
+}
+
+#[test]
+fn curved_stencils_match_the_cpu() {
+    let Some(mut g) = gpu(wavy_strip(Method::GaussSeidel), "curved_stencils_match_the_cpu") else { return };
+    let mut cpu = wavy_strip(Method::GaussSeidel);
+    cpu.colour_count(); // prepares the model: the slot layout is built
+    assert!(!cpu.model().slots.curved.is_empty(), "the scene has no curved stencils");
+    let worst = agree(&mut cpu, &mut g, 30);
+    println!("wavy strip, Gauss-Seidel: worst max |Δx| over 30 frames {worst:.3e} m");
+    assert!(worst < TOLERANCE_GS, "GPU and CPU differ by {worst} m");
+    // The rest wave shapes the strip: it leaves the plane y = 0.
+    let y = (0..cpu.num_particles()).map(|i| cpu.positions().y[i].abs()).fold(0.0f32, f32::max);
+    println!("wavy strip: max |y| {y:.3e} m");
+    assert!(y > 1e-4, "the curved rest shape had no effect ({y} m)");
+}
+
+#[test]
+fn edits_between_frames_reach_the_gpu() {
+    let Some(mut g) = gpu(strip(), "edits_between_frames_reach_the_gpu") else { return };
+    let mut cpu = strip();
+    for _ in 0..5 {
+        cpu.step(1.0 / 30.0).unwrap();
+        g.step(1.0 / 30.0).unwrap();
+    }
+    // Unpin one corner on both: the GPU must re-upload the model.
+    cpu.unpin(&[cpu.num_particles() as u32 - 1]).unwrap();
+    let n = g.simulation().num_particles() as u32;
+    g.edit(|s| s.unpin(&[n - 1])).unwrap();
+    let worst = agree(&mut cpu, &mut g, 10);
+    assert!(worst < TOLERANCE_CHEBYSHEV, "after the edit: {worst} m");
+}
+
+#[test]
+fn a_new_time_step_keeps_the_gpu_state() {
+    let Some(mut g) = gpu(strip(), "a_new_time_step_keeps_the_gpu_state") else { return };
+    let mut cpu = strip();
+    agree(&mut cpu, &mut g, 5);
+    // Halving dt changes h: the GPU re-uploads, and must not lose its velocities doing so.
+    for f in 0..5 {
+        cpu.step(1.0 / 60.0).unwrap();
+        let st = g.step(1.0 / 60.0).unwrap();
+        assert_eq!(st.backend, ActiveBackend::Gpu);
+        let d = max_diff(&cpu, g.simulation());
+        assert!(d < TOLERANCE_CHEBYSHEV, "frame {f} at dt = 1/60: {d} m");
+    }
+}
+
+#[test]
+fn forced_no_adapter_falls_back_to_the_cpu_with_a_warning() {
+    let opts = SolverOptions { backend: Backend::Gpu, force_no_adapter: true };
+    let mut s = Solver::with_options(strip(), opts);
+    assert_eq!(s.active_backend(), ActiveBackend::Cpu);
+    let st = s.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Cpu);
+    let w = st.warning.expect("a warning in the stats");
+    assert!(w.contains("no GPU adapter"), "{w}");
+    // And it is the CPU step exactly.
+    let mut cpu = strip();
+    cpu.step(1.0 / 30.0).unwrap();
+    assert_eq!(cpu.state_hash(), s.simulation().state_hash());
+}
+
+#[test]
+fn auto_and_cpu_do_not_warn() {
+    let opts = SolverOptions { backend: Backend::Auto, force_no_adapter: true };
+    let st = Solver::with_options(strip(), opts).step(1.0 / 30.0).unwrap();
+    assert!(st.warning.is_none());
+    let st = Solver::new(strip(), Backend::Cpu).step(1.0 / 30.0).unwrap();
+    assert!(st.warning.is_none() && st.backend == ActiveBackend::Cpu);
+}
+
+/// The strip blown sideways (gravity with a y component) into a sphere, over a floor plane
+/// and past a capsule, with friction.
+fn strip_against_colliders(method: Method) -> Simulation {
+    strip_against_colliders_mu(method, 0.4, 0.3)
+}
+
+fn strip_against_colliders_mu(method: Method, mu_s: f32, mu_k: f32) -> Simulation {
+    let mut sim = strip_with(method);
+    let mut settings = sim.settings().clone();
+    settings.gravity = [0.0, 4.0, -9.81];
+    sim.set_settings(settings).unwrap();
+    let shapes = [
+        Shape::Sphere { center: [0.1, 0.3, -0.7], radius: 0.2 },
+        Shape::Plane { point: [0.0, 0.0, -1.0], normal: [0.0, 0.2, 1.0] },
+        Shape::Capsule { a: [-0.2, 0.15, -0.3], b: [0.4, 0.15, -0.35], radius: 0.05 },
+    ];
+    for shape in shapes {
+        sim.add_collider(ImplicitCollider { shape, static_friction: mu_s, kinetic_friction: mu_k }).unwrap();
+    }
+    sim
+}
+
+/// Contacts make the trajectory sensitive: a particle near the thickness switches a penalty of
+/// 20× its diagonal on or off, and static friction sticks or slides. So the test compares the
+/// GPU's drift from the CPU with the CPU's own drift under a 1e-6 m perturbation of the start
+/// (a rounding-sized change): a GPU bug would show as a drift far beyond that reference.
+#[test]
+fn colliders_match_the_cpu_as_closely_as_the_cpu_matches_itself() {
+    let make = || strip_against_colliders(Method::GaussSeidel);
+    let Some(mut g) = gpu(make(), "colliders_match_the_cpu") else { return };
+    let mut cpu = make();
+    let mut perturbed = make();
+    let start: Vec<[f32; 3]> = (0..perturbed.num_particles())
+        .map(|i| {
+            let p = perturbed.positions().get(i);
+            let e = 1e-6 * (((i * 7919) % 13) as f32 / 6.0 - 1.0);
+            [p.x + e, p.y - e, p.z + e]
+        })
+        .collect();
+    perturbed.set_positions(&start).unwrap();
+    let (mut touched, mut worst_gpu, mut worst_ref) = (0, 0.0f32, 0.0f32);
+    for f in 0..30 {
+        let a = cpu.step(1.0 / 30.0).unwrap();
+        let b = g.step(1.0 / 30.0).unwrap();
+        perturbed.step(1.0 / 30.0).unwrap();
+        assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: fell back: {:?}", b.warning);
+        let (d, r) = (max_diff(&cpu, g.simulation()), max_diff(&cpu, &perturbed));
+        worst_gpu = worst_gpu.max(d);
+        worst_ref = worst_ref.max(r);
+        if std::env::var("VERBOSE").is_ok() || f % 10 == 0 || f == 29 {
+            println!(
+                "frame {f}: GPU-CPU {d:.3e} m, perturbed CPU-CPU {r:.3e} m, contacts cpu {} gpu {}",
+                a.contacts, b.contacts
+            );
+        }
+        touched = touched.max(a.contacts);
+        if f < 2 {
+            // Before the contact set starts to flip (measured 4.9e-7 m), only rounding differs.
+            assert!(d < TOLERANCE_GS, "frame {f}: GPU and CPU differ by {d} m");
+        }
+    }
+    println!(
+        "colliders: worst GPU-CPU {worst_gpu:.3e} m, perturbed CPU-CPU {worst_ref:.3e} m, up to {touched} contacts"
+    );
+    assert!(touched > 10, "the strip never touched the colliders");
+    assert!(worst_gpu < 5.0 * worst_ref.max(1e-4), "GPU drifts {worst_gpu} m, the CPU from itself {worst_ref} m");
+}
+
+#[test]
+fn unsupported_scene_falls_back_to_the_cpu_with_a_warning() {
+    let mut sim = strip();
+    let mut settings = sim.settings().clone();
+    settings.method = Method::Jacobi;
+    sim.set_settings(settings).unwrap();
+    let Some(mut g) = gpu(sim, "unsupported_scene") else { return };
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Cpu);
+    let w = st.warning.unwrap();
+    assert!(w.contains("Jacobi"), "{w}");
+    assert_eq!(g.active_backend(), ActiveBackend::Cpu);
+}
+
+/// A frame that blows up on the GPU is rolled back there and reported as on the CPU; the
+/// solver stays on the GPU and continues after the cause is fixed.
+#[test]
+fn divergence_on_the_gpu_rolls_back_and_reports() {
+    let mut sim = strip();
+    let mut wild = sim.settings().clone();
+    wild.gravity = [0.0, 0.0, -3e38];
+    sim.set_settings(wild).unwrap();
+    let Some(mut g) = gpu(sim, "divergence_on_the_gpu") else { return };
+    let before = g.simulation().positions().clone();
+    let mut cpu_wild = strip();
+    let wild_settings = g.simulation().settings().clone();
+    cpu_wild.set_settings(wild_settings).unwrap();
+    // The CPU diverges on this too (the comparison is like for like).
+    assert!(matches!(cpu_wild.step(1.0 / 30.0), Err(tailor_core::TailorError::Diverged { .. })));
+    let err = g.step(1.0 / 30.0).unwrap_err();
+    assert!(matches!(err, tailor_core::TailorError::Diverged { .. }), "{err:?}");
+    assert_eq!(g.simulation().positions(), &before, "the positions were not rolled back");
+    assert_eq!(g.active_backend(), ActiveBackend::Gpu);
+    g.edit(|s| {
+        let mut calm = s.settings().clone();
+        calm.gravity = [0.0, 0.0, -9.81];
+        s.set_settings(calm)
+    })
+    .unwrap();
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Gpu);
+    // The rollback restored the GPU's own state too: this frame matches a fresh CPU frame.
+    let mut cpu = strip();
+    cpu.step(1.0 / 30.0).unwrap();
+    let d = max_diff(&cpu, g.simulation());
+    println!("after the rollback: max |Δx| {d:.3e} m");
+    assert!(d < TOLERANCE_CHEBYSHEV, "{d} m");
+}

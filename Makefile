@@ -13,10 +13,14 @@ demo: develop
 	$(PY) -m tailor demo --out out/demo
 
 ## Run every test: the crates' own tests, then pytest against the built module.
-test: develop test-rust test-python
+test: setup develop test-rust test-python
 
 test-rust:
 	cargo test --workspace --release
+	# The wgpu backend (feature gpu) on whatever Vulkan adapter exists (lavapipe in CI); its
+	# tests print SKIP and pass when there is none.
+	cargo test -p tailor-core --release --features gpu --test gpu_solver
+	cargo test -p tailor-core --release --features gpu --lib gpu::
 
 test-python: develop
 	$(PY) -m pytest -q tests

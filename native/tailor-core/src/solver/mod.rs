@@ -27,10 +27,10 @@ pub mod stats;
 pub mod system;
 mod view;
 
+pub use backend::{Backend, Solver, SolverOptions, AUTO_GPU_MIN_PARTICLES};
 pub use collide::{
     ColliderId, CollisionSkips, CollisionStats, MeshColliderOptions, QualityMetrics, SelfCollisionSettings,
 };
-pub use backend::{Backend, Solver, SolverOptions, AUTO_GPU_MIN_PARTICLES};
 pub use constraints::{Attachment, Seam, SeamPoint};
 pub use contacts::{ImplicitCollider, Shape};
 pub use damping::RampPhase;

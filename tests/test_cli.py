@@ -10,14 +10,14 @@ def run(*args, **kw):
 
 
 def test_demo_runs_and_reports(tmp_path):
-    r = run("demo", "--frames", "12", "--out", str(tmp_path))
+    r = run("demo", "--frames", "30", "--out", str(tmp_path))
     assert r.returncode == 0, r.stderr
     assert "ns per particle-iteration" in r.stdout and "seam gap" in r.stdout
     report = json.loads((tmp_path / "report.json").read_text())
     s = report["summary"]
-    assert s["frames"] == 12 and not s["nan"]
+    assert s["frames"] == 30 and not s["nan"]
     assert s["seam_gap_max_m"] < 2e-3 and s["penetration_count"] == 0
-    assert len(report["frames"]) == 12
+    assert len(report["frames"]) == 30
     assert (tmp_path / "sleeve.obj").read_text().count("\nf ") == s["triangles"]
 
 

@@ -1,5 +1,8 @@
-//! Procedural scenes used by tests, benchmarks and the headless demo: flat rectangles and a
-//! tube of two rectangles sewn along both sides (the simplest real garment).
+//! Procedural scenes used by tests, benchmarks and the headless demo: flat rectangles, a tube
+//! of two rectangles sewn along both sides (the simplest real garment), and closed collider
+//! meshes (icosphere, box).
+
+use glam::Vec3;
 
 use crate::error::Result;
 use crate::mesh::ClothMesh;
@@ -83,4 +86,86 @@ pub fn sewn_tube(width: f32, height: f32, edge: f32, gap: f32, bottom_z: f32, se
         Seam::one_to_one("right side", &right_front, &right_back, seam_stiffness, bend)?,
     ];
     Ok(SewnTube { mesh, seams, panel_vertices: nv })
+}
+
+/// Subdivided icosahedron on a sphere of `radius`, outward winding: `10·4^k + 2` vertices.
+pub fn icosphere(subdiv: u32, radius: f32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut v: Vec<Vec3> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|p| Vec3::from(*p).normalize())
+    .collect();
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdiv {
+        let mut mid = std::collections::HashMap::new();
+        let mut midpoint = |a: u32, b: u32, v: &mut Vec<Vec3>| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                v.push(((v[a as usize] + v[b as usize]) * 0.5).normalize());
+                v.len() as u32 - 1
+            })
+        };
+        let mut nf = Vec::with_capacity(f.len() * 4);
+        for &[a, b, c] in &f {
+            let ab = midpoint(a, b, &mut v);
+            let bc = midpoint(b, c, &mut v);
+            let ca = midpoint(c, a, &mut v);
+            nf.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        f = nf;
+    }
+    (v.iter().map(|p| (*p * radius).into()).collect(), f)
+}
+
+/// Axis-aligned box `[lo, hi]`, 12 outward triangles.
+pub fn box_mesh(lo: [f32; 3], hi: [f32; 3]) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    let v = (0..8).map(|i| [[lo[0], hi[0]][i & 1], [lo[1], hi[1]][(i >> 1) & 1], [lo[2], hi[2]][i >> 2]]).collect();
+    let t = vec![
+        [0, 2, 1],
+        [1, 2, 3], // z = lo
+        [4, 5, 6],
+        [5, 7, 6], // z = hi
+        [0, 1, 4],
+        [1, 5, 4], // y = lo
+        [2, 6, 3],
+        [3, 6, 7], // y = hi
+        [0, 4, 2],
+        [2, 4, 6], // x = lo
+        [1, 3, 5],
+        [3, 7, 5], // x = hi
+    ];
+    (v, t)
 }

@@ -4,7 +4,7 @@
 use glam::Vec3;
 use tailor_core::collision::ClosedMesh;
 use tailor_core::mesh::ClothMesh;
-use tailor_core::scenes::rectangle;
+use tailor_core::scenes::{self, rectangle};
 use tailor_core::solver::{Fabric, Simulation, SolverSettings};
 
 /// Positions, rest shape and triangles of a cloth.
@@ -23,84 +23,15 @@ pub fn sim_of(pos: Vec<[f32; 3]>, rest: Vec<[f32; 2]>, tris: Vec<[u32; 3]>, sett
     Simulation::new(mesh, fabric, settings).unwrap()
 }
 
-/// Icosphere with outward triangles.
+/// Icosphere of radius `r` centred at `c`, outward triangles.
 pub fn icosphere(subdiv: u32, r: f32, c: Vec3) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut v: Vec<Vec3> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .iter()
-    .map(|p| Vec3::from(*p).normalize())
-    .collect();
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..subdiv {
-        let mut mid = std::collections::HashMap::new();
-        let mut nf = Vec::new();
-        let mut m = |a: u32, b: u32, v: &mut Vec<Vec3>| -> u32 {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                v.push(((v[a as usize] + v[b as usize]) * 0.5).normalize());
-                v.len() as u32 - 1
-            })
-        };
-        for &[a, b, c] in &f {
-            let (ab, bc, ca) = (m(a, b, &mut v), m(b, c, &mut v), m(c, a, &mut v));
-            nf.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        f = nf;
-    }
-    (v.iter().map(|p| (*p * r + c).into()).collect(), f)
+    let (v, t) = scenes::icosphere(subdiv, r);
+    (v.into_iter().map(|p| (Vec3::from(p) + c).into()).collect(), t)
 }
 
 /// Axis-aligned box of half-size `h` centred at `c`, 12 outward triangles.
 pub fn box_mesh(h: f32, c: Vec3) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
-    let mut v = Vec::new();
-    for i in 0..8 {
-        let s = Vec3::new(
-            if i & 1 != 0 { 1.0 } else { -1.0 },
-            if i & 2 != 0 { 1.0 } else { -1.0 },
-            if i & 4 != 0 { 1.0 } else { -1.0 },
-        );
-        v.push((c + s * h).into());
-    }
-    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    let mut t = Vec::new();
-    for [a, b, cc, d] in quads {
-        t.push([a, b, cc]);
-        t.push([a, cc, d]);
-    }
-    (v, t)
+    scenes::box_mesh((c - h).into(), (c + h).into())
 }
 
 /// A `size × size` square of `n × n` cells through `origin`, spanned by unit vectors `u`, `w`

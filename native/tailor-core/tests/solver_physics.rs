@@ -144,3 +144,30 @@ fn early_stop_uses_fewer_iterations_once_settled() {
         Simulation::new(mesh, Fabric::default(), SolverSettings { iterations: 50, ..Default::default() }).unwrap();
     assert_eq!(full.step(1.0 / 30.0).unwrap().iterations, 4 * 50);
 }
+
+/// Seams close at `ramp.closing_speed`: a 10 cm gap is still most of the way open after one
+/// frame at 0.5 m/s and closed well within half a second; with speed 0 it closes at once.
+#[test]
+fn seams_close_at_the_closing_speed() {
+    let run = |speed: f32| {
+        let tube = sewn_tube(0.3, 0.3, 0.03, 0.1, 0.0, 2000.0).unwrap();
+        let mut settings = SolverSettings { gravity: [0.0; 3], ..Default::default() };
+        settings.ramp.closing_speed = speed;
+        let mut sim = Simulation::new(tube.mesh, Fabric::default(), settings).unwrap();
+        for s in tube.seams {
+            sim.add_seam(s).unwrap();
+        }
+        let first = sim.step(1.0 / 30.0).unwrap().seam_gap_max;
+        let mut last = first;
+        for _ in 0..14 {
+            last = sim.step(1.0 / 30.0).unwrap().seam_gap_max;
+        }
+        (first, last, sim.seams_closing())
+    };
+    let (first, last, closing) = run(0.5);
+    println!("0.5 m/s: gap after 1 frame {first:.4} m, after 0.5 s {last:.2e} m");
+    assert!(first > 0.1 - 0.5 / 30.0 - 0.01, "closed too fast: {first}");
+    assert!(last < 1e-3 && !closing, "not closed after 0.5 s: {last}");
+    let (first, _, _) = run(0.0);
+    assert!(first < 2e-3, "speed 0 should close at once, gap {first}");
+}

@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.tailor-built
 SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o -name '*.pyi' -o -name '*.wgsl') Cargo.toml pyproject.toml
 
-.PHONY: demo test test-rust test-python bench setup develop clean
+.PHONY: demo test test-rust test-python bench setup develop clean samples-character
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -28,6 +28,12 @@ test-python: develop
 ## Benchmarks (print figures; not part of the tests).
 bench: develop
 	cargo bench -p tailor-core --bench solver
+
+## Regenerate sample_blends/character.blend and .glb (rig, skin, walk and run) from
+## sample_blends/sources, with contact sheets in out/character and the docs' previews.
+## Needs the bpy wheel in .venv: .venv/bin/pip install "bpy==4.5.*".
+samples-character: setup
+	$(PY) sample_blends/build/character.py --render out/character --docs-img docs/img
 
 setup: $(VENV)/.tailor-setup
 

@@ -210,3 +210,19 @@ def pose(bones: list[Bone], joints: dict[str, np.ndarray], g: Gait, phase: float
 def frames(bones, joints, g: Gait):
     """Poses of one cycle plus the closing frame (equal to the first): frames+1 poses."""
     return [pose(bones, joints, g, (f % g.frames) / g.frames) for f in range(g.frames + 1)]
+
+
+def forward_kinematics(bones: list[Bone], joints: dict[str, np.ndarray], root: np.ndarray, R: dict[str, np.ndarray]):
+    """Posed rotations `D` (armature space, relative to rest) and head positions of every bone,
+    the way Blender chains them: `D = D_parent @ R`, a head follows its parent rigidly."""
+    D: dict[str, np.ndarray] = {}
+    heads: dict[str, np.ndarray] = {}
+    rest_head = {b.name: joints[b.head] for b in bones}
+    for b in bones:
+        if b.parent is None:
+            D[b.name] = R[b.name]
+            heads[b.name] = rest_head[b.name] + root
+        else:
+            D[b.name] = D[b.parent] @ R[b.name]
+            heads[b.name] = heads[b.parent] + D[b.parent] @ (rest_head[b.name] - rest_head[b.parent])
+    return D, heads

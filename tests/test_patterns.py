@@ -157,3 +157,30 @@ def test_file_errors_are_typed_and_name_the_file(tmp_path):
         tailor.read_pattern(str(junk))
     with pytest.raises(tailor.InvalidParameterError):
         tailor.read_pattern(str(SHIRT), units="furlongs")
+
+
+def test_piece_json_round_trip_rebuilds_the_same_mesh():
+    piece = tailor.read_pattern(str(SHIRT)).pieces[1]
+    again = tailor.Piece.from_json(piece.to_json())
+    assert again.name == piece.name and np.array_equal(again.outline, piece.outline)
+    assert again.placement == piece.placement and again.edges == piece.edges
+    m1, m2 = tailor.triangulate(piece, 0.03), tailor.triangulate(again, 0.03)
+    assert np.array_equal(m1.rest, m2.rest) and np.array_equal(m1.triangles, m2.triangles)
+    with pytest.raises(tailor.PatternError, match="piece JSON"):
+        tailor.Piece.from_json('{"name": "x"}')
+
+
+def test_seam_from_stored_sides_resolves_like_the_original():
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.03)
+    meshes = g.meshes()
+    s = g.seams[0]
+    stored = tailor.Seam(s.name, s.a, s.b, mode=s.mode, stiffness=2.5, bend_stiffness=0.5)
+    assert (stored.stiffness, stored.bend_stiffness, stored.a, stored.b) == (2.5, 0.5, s.a, s.b)
+    r1, r2 = s.resolve(meshes), stored.resolve(meshes)
+    assert r1["a_vertices"] == r2["a_vertices"] and r1["b_vertices"] == r2["b_vertices"]
+    with pytest.raises(tailor.InvalidParameterError, match="direction"):
+        tailor.Seam("bad", dict(s.a, direction="up"), s.b)
+    with pytest.raises(tailor.InvalidParameterError, match="stiffness"):
+        tailor.Seam("bad", s.a, s.b, stiffness=-1.0)
+    with pytest.raises(tailor.InvalidParameterError, match="needs the key"):
+        tailor.Seam("bad", {"start": [0, 0]}, s.b)

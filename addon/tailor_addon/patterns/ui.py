@@ -1,0 +1,53 @@
+"""The Patterns panel and the File > Import entry."""
+
+from __future__ import annotations
+
+import bpy
+
+from .. import scene_data
+from ..compat import import_menu
+from ..ui_common import TailorPanel
+
+
+class TAILOR_PT_patterns(TailorPanel, bpy.types.Panel):
+    bl_idname = "TAILOR_PT_patterns"
+    bl_label = "Patterns"
+    bl_order = 0
+
+    def draw(self, context):
+        layout = self.layout
+        layout.operator("tailor.import_pattern", text="Import Pattern…", icon="IMPORT")
+        obj = context.active_object
+        if not scene_data.is_piece(obj):
+            layout.label(text="Select a garment piece", icon="INFO")
+            return
+        p = obj.tailor_piece
+        box = layout.box()
+        box.label(text=p.piece_name or obj.name, icon="MESH_DATA")
+        col = box.column(align=True)
+        col.label(text=f"Garment: {p.garment}")
+        col.label(text=f"{len(obj.data.vertices)} vertices, {len(obj.data.polygons)} triangles")
+        row = box.row(align=True)
+        row.label(text=f"Resolution: {p.edge_length * 100:.3g} cm")
+        row.operator("tailor.set_resolution", text="Set…", icon="MOD_TRIANGULATE")
+        col = box.column(align=True)
+        col.label(text="Fabric")
+        col.prop(p, "density")
+        col.prop(p, "stretch")
+        col.prop(p, "shear")
+        col.prop(p, "bend")
+
+
+def menu_import(self, context):
+    self.layout.operator("tailor.import_pattern", text="Sewing Pattern (.dxf, .svg, .json)")
+
+
+classes = (TAILOR_PT_patterns,)
+
+
+def register() -> None:
+    import_menu().append(menu_import)
+
+
+def unregister() -> None:
+    import_menu().remove(menu_import)

@@ -1,6 +1,8 @@
 """Small shims between the Blender versions the add-on loads in (3.4 legacy to 5.x extension).
 
 Everything version-dependent lives here so the feature folders read the same everywhere.
+(Modules that define Blender classes do not use `from __future__ import annotations`: property
+annotations must stay objects, not strings, for the older registration code.)
 """
 
 from __future__ import annotations

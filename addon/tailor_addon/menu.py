@@ -1,8 +1,6 @@
 """Object > Tailor: every Tailor operator in a menu, so that F3 (menu search) finds them all
 without Developer Extras, and so the workflow can also be driven from the menus."""
 
-from __future__ import annotations
-
 import bpy
 
 # (idname, label) in workflow order; tests check that every registered Tailor operator is here.

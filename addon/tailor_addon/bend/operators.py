@@ -7,8 +7,6 @@ The exec path takes the axis in the piece's local frame; the interactive gizmo c
 axis it places in the viewport and calls it (or `bend_positions` for its live preview).
 """
 
-from __future__ import annotations
-
 import math
 
 import bpy

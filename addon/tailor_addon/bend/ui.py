@@ -1,7 +1,5 @@
 """The Bend panel."""
 
-from __future__ import annotations
-
 import math
 
 import bpy

@@ -6,8 +6,6 @@ collision levels, which weight paint cannot hold. All work on the active mesh ob
 garment piece, or the character (collision levels).
 """
 
-from __future__ import annotations
-
 import bpy
 import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty

@@ -1,7 +1,5 @@
 """The Paint panel: what is painted on the active mesh, with set, paint and clear buttons."""
 
-from __future__ import annotations
-
 import bpy
 import numpy as np
 

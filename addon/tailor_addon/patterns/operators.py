@@ -1,19 +1,18 @@
 """Import a sewing pattern as piece objects; re-triangulate pieces at a new resolution."""
 
-from __future__ import annotations
-
 import os
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
+from mathutils import Euler, Matrix
 
 import tailor
 
 from .. import scene_data
 from ..core import AddonError, mesh_arrays, placement_rotation, side_by_side
 from ..core.garment import SeamData
-from ..core.layout import PLACEMENT_ROTATION_MODE
+from ..core.layout import PLACEMENT_ROTATION_MODE, Y_UP_TO_Z_UP
 from ..reporting import reports_errors
 from ..seams.store import add_seam_item
 from . import rebuild
@@ -54,6 +53,16 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
     units: EnumProperty(name="Units", description="Units of the file's coordinates", items=UNITS, default="AUTO")
     use_placement: BoolProperty(
         name="Placements", description="Place pieces around the body where the file says (GarmentCode)", default=True
+    )
+    up_axis: EnumProperty(
+        name="Placement Up",
+        description="Up axis of the file's placements",
+        items=[
+            ("Y", "Y Up", "Y is up in the file (GarmentCode and its bodies): turn it to Blender's Z up, as the OBJ "
+             "importer does"),
+            ("Z", "Z Up", "Use the placements as they are"),
+        ],
+        default="Y",
     )
     use_stitches: BoolProperty(
         name="Stitches as Seams", description="Turn the file's stitches into seams (GarmentCode)", default=True
@@ -97,10 +106,8 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
             if i in locations:
                 obj.location = locations[i]
             else:
-                loc, rot = placement_rotation(piece.placement)
-                obj.location = loc
                 obj.rotation_mode = PLACEMENT_ROTATION_MODE
-                obj.rotation_euler = rot
+                obj.matrix_world = self.placement_matrix(piece.placement)
             objects.append(obj)
         for seam, r in zip(seams, resolved):
             add_seam_item(scene, seam, objects, r)
@@ -115,6 +122,14 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
             self.report({"WARNING"}, w)
         self.report({"INFO"}, f"Imported {len(objects)} pieces and {len(seams)} seams from {os.path.basename(path)}")
         return {"FINISHED"}
+
+
+    def placement_matrix(self, placement: dict) -> Matrix:
+        loc, rot = placement_rotation(placement)
+        m = Matrix.Translation(loc) @ Euler(rot, PLACEMENT_ROTATION_MODE).to_matrix().to_4x4()
+        if self.up_axis == "Y":
+            m = Matrix(Y_UP_TO_Z_UP.tolist()).to_4x4() @ m
+        return m
 
 
 class TAILOR_OT_set_resolution(bpy.types.Operator):

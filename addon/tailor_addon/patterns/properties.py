@@ -1,7 +1,5 @@
 """Per-piece data kept on the piece object (`Object.tailor_piece`); see docs/addon.md."""
 
-from __future__ import annotations
-
 import bpy
 from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 

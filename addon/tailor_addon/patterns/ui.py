@@ -1,7 +1,5 @@
 """The Patterns panel and the File > Import entry."""
 
-from __future__ import annotations
-
 import bpy
 
 from .. import scene_data

@@ -5,8 +5,6 @@ scripts, tests and the interactive tools (manual picking, hover suggestion) shar
 tool ends by calling `bpy.ops.tailor.seam_add(...)` with what the artist picked.
 """
 
-from __future__ import annotations
-
 import bpy
 from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
 

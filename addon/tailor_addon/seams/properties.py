@@ -6,8 +6,6 @@ indices are never stored; resolving the sides on the current meshes finds them (
 them after a re-triangulation). See docs/addon.md.
 """
 
-from __future__ import annotations
-
 import bpy
 from bpy.props import (
     BoolProperty,

@@ -1,7 +1,5 @@
 """The Seams panel: the scene's seam list and the active seam's settings."""
 
-from __future__ import annotations
-
 import bpy
 
 from ..ui_common import TailorPanel

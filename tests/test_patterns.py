@@ -184,3 +184,37 @@ def test_seam_from_stored_sides_resolves_like_the_original():
         tailor.Seam("bad", s.a, s.b, stiffness=-1.0)
     with pytest.raises(tailor.InvalidParameterError, match="needs the key"):
         tailor.Seam("bad", {"start": [0, 0]}, s.b)
+
+
+def test_garment_from_parts_rebuilds_the_same_garment(tmp_path):
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.04)
+    bend = {
+        "axis_point": [0.0, 1.2, 0.0],
+        "axis_direction": [0, 1, 0],
+        "angle_deg": 30.0,
+        "symmetry": ((0.0, 0.0), (0.0, 1.0)),
+        "threshold": 0.0,
+    }
+    g.set_bend(2, bend["axis_point"], bend["axis_direction"], 30.0, symmetry=bend["symmetry"])
+    pieces = g.pieces
+    moved = dict(pieces[0].placement, translation=[0.1, 0.2, 0.3])
+    g2 = tailor.Garment.from_parts(
+        pieces,
+        g.edge_lengths,
+        g.seams,
+        placements=[moved] + [None] * (len(pieces) - 1),
+        bends=[None, None, bend] + [None] * (len(pieces) - 3),
+    )
+    (s1, o1), (s2, o2) = g.build_simulation(), g2.build_simulation()
+    n0 = o1[1]
+    np.testing.assert_array_equal(s1.positions[n0:], s2.positions[n0:])
+    shift = np.array([0.1, 0.2, 0.3]) - np.array(pieces[0].placement["translation"])
+    np.testing.assert_allclose(s2.positions[:n0] - s1.positions[:n0], np.tile(shift, (n0, 1)), atol=1e-5)
+    g2.save(str(tmp_path / "g.json"))
+    assert len(tailor.Garment.load(str(tmp_path / "g.json")).seams) == len(g.seams)
+    with pytest.raises(tailor.InvalidParameterError, match="3 pieces but 2 edge lengths"):
+        tailor.Garment.from_parts(pieces[:3], [0.04, 0.04], [])
+    with pytest.raises(tailor.InvalidParameterError, match="angle_deg"):
+        tailor.Garment.from_parts(pieces[:1], [0.04], [], bends=[{"axis_point": [0, 0, 0], "axis_direction": [0, 1, 0]}])
+    with pytest.raises(tailor.SeamError):
+        tailor.Garment.from_parts(pieces[:1], [0.04], [g.seams[0]])

@@ -8,6 +8,7 @@ annotations must stay objects, not strings, for the older registration code.)
 from __future__ import annotations
 
 import glob
+import importlib
 import os
 import sys
 import zipfile
@@ -48,7 +49,7 @@ def ensure_tailor() -> None:
         _unpack(wheel, target)
     if target not in sys.path:
         sys.path.insert(0, target)
-    import tailor  # noqa: F401
+    importlib.import_module("tailor")
 
 
 def _unpack(wheel: str, target: str) -> None:
@@ -87,3 +88,7 @@ def point_shader():
 
 def import_menu():
     return bpy.types.TOPBAR_MT_file_import
+
+
+def export_menu():
+    return bpy.types.TOPBAR_MT_file_export

@@ -7,6 +7,7 @@ import bpy
 OPERATORS = (
     ("tailor.import_pattern", "Import Sewing Pattern…"),
     ("tailor.set_resolution", "Set Piece Resolution…"),
+    ("tailor.export_garment", "Export Tailor Garment…"),
     None,
     ("tailor.seam_add", "Add Seam"),
     ("tailor.seam_flip", "Flip Seam"),

@@ -8,8 +8,13 @@ way with `foreach_get`/`foreach_set` into float32/int32 numpy arrays.
 
 from __future__ import annotations
 
+import math
+
 import bpy
 import numpy as np
+from mathutils import Vector
+
+import tailor
 
 from . import core
 from .core.garment import PieceData, SeamData, SeamSide
@@ -149,3 +154,58 @@ def build_garment(scene, garment: str | None = None) -> core.SceneGarment:
     g = core.garment_from_scene([read_piece(o) for o in objects], seams)
     g.warnings.extend(f"seam '{n}' lost a piece and is ignored" for n in broken_seams(scene))
     return g
+
+
+def placement_of(obj) -> dict:
+    """The object's transform as the module's placement (intrinsic XYZ degrees = Blender's
+    'ZYX' Euler). Raises for a scaled object: a placement is rigid."""
+    loc, rot, scale = obj.matrix_world.decompose()
+    if any(abs(c - 1.0) > 1e-4 for c in scale):
+        raise core.AddonError(
+            f"piece '{obj.name}' is scaled ({tuple(round(c, 4) for c in scale)}); a garment piece keeps its "
+            "pattern's size",
+            "Apply or clear its scale (Ctrl+A > Scale resets the rest shape: prefer Alt+S)",
+        )
+    euler = rot.to_matrix().to_euler("ZYX")
+    flipped = False
+    own = tailor.Piece.from_json(obj.tailor_piece.piece_json).placement
+    if own is not None:
+        flipped = bool(own["flipped"])
+    return {
+        "translation": list(loc),
+        "rotation_deg": [math.degrees(a) for a in euler],
+        "flipped": flipped,
+    }
+
+
+def bend_of(obj) -> dict | None:
+    """The piece's stored bend with its axis in world space (the module bends after placing)."""
+    p = obj.tailor_piece
+    if p.bend_angle == 0.0:
+        return None
+    m = obj.matrix_world
+    return {
+        "axis_point": list(m @ Vector(p.bend_axis_point)),
+        "axis_direction": list(m.to_3x3() @ Vector(p.bend_axis_direction)),
+        "angle_deg": math.degrees(p.bend_angle),
+        "symmetry": (tuple(p.bend_symmetry_point), tuple(p.bend_symmetry_direction)) if p.bend_symmetry else None,
+        "threshold": p.bend_threshold,
+    }
+
+
+def garment_file(scene, garment: str | None = None):
+    """The scene's garment as a `tailor.Garment` (pieces, resolutions, placements from the
+    objects' transforms, bends, seams), to `save()` as a garment file that the module alone can
+    simulate (`python -m tailor simulate`). Hand edits of vertex positions are not kept."""
+    objects = piece_objects(scene, garment)
+    if not objects:
+        raise core.AddonError("the scene has no garment pieces", "Import a pattern first")
+    index = {o.name: i for i, o in enumerate(objects)}
+    seams = [s for s in (read_seam(item, index) for item in scene.tailor.seams) if s is not None]
+    return tailor.Garment.from_parts(
+        [tailor.Piece.from_json(o.tailor_piece.piece_json) for o in objects],
+        [o.tailor_piece.edge_length for o in objects],
+        [s.to_tailor() for s in seams],
+        placements=[placement_of(o) for o in objects],
+        bends=[bend_of(o) for o in objects],
+    )

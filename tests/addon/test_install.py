@@ -61,3 +61,44 @@ def test_garmentcode_shirt_sits_on_its_body_imported_by_blender(scene, addon):
     assert 0.9 < lo[2] and hi[2] < 1.5  # shoulders to hips
     centre = bv[(bv[:, 2] > lo[2]) & (bv[:, 2] < hi[2])].mean(axis=0)
     assert lo[0] < centre[0] < hi[0] and lo[1] < centre[1] < hi[1]
+
+
+def test_scene_exports_a_garment_file_the_module_simulates_alike(scene, addon, tmp_path):
+    """scene_data.garment_file: placements from the object transforms (moved, turned Y-up to
+    Z-up) and bends in world space give the module the same cloth as the scene."""
+    import math
+
+    import tailor
+
+    import_pattern(DATA / "garmentcode/shirt_mean_specification.json", edge_length=0.05)
+    sleeve = bpy.data.objects["left_sleeve_f"]
+    sleeve.location.x += 0.1
+    sleeve.rotation_euler.z += 0.2
+    bpy.context.view_layer.objects.active = sleeve
+    bpy.ops.tailor.bend(angle=math.radians(40), axis_point=(0.0, 0.0, -0.1), axis_direction=(1, 0, 0))
+    bpy.context.view_layer.update()
+    g = addon.scene_data.garment_file(scene)
+    g.save(str(tmp_path / "shirt.json"))
+    g = tailor.Garment.load(str(tmp_path / "shirt.json"))
+    sim, offsets = g.build_simulation()
+    sg = addon.scene_data.build_garment(scene)
+    assert list(offsets) == list(sg.offsets)
+    np.testing.assert_allclose(sim.positions, sg.positions, atol=2e-5)
+    assert len(g.seams) == len(sg.seams) == 18
+    sleeve.scale.x = 2.0
+    bpy.context.view_layer.update()
+    with pytest.raises(addon.core.AddonError, match="is scaled"):
+        addon.scene_data.garment_file(scene)
+
+
+def test_export_operator_writes_a_garment_file(scene, addon, tmp_path):
+    import tailor
+
+    import_pattern(DATA / "svg/skirt_two_panels.svg", edge_length=0.05)
+    out = tmp_path / "skirt.json"
+    assert bpy.ops.tailor.export_garment(filepath=str(out)) == {"FINISHED"}
+    g = tailor.Garment.load(str(out))
+    assert sorted(p.name for p in g.pieces) == ["skirt back", "skirt front"] and (tmp_path / "skirt.bin").exists()
+    bpy.ops.wm.read_homefile(use_empty=True)
+    with pytest.raises(RuntimeError, match="Exporting the garment failed: the scene has no garment pieces"):
+        bpy.ops.tailor.export_garment(filepath=str(out))

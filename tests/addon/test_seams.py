@@ -13,7 +13,7 @@ SHIRT = DATA / "garmentcode/shirt_mean_specification.json"
 
 
 def two_panels(edge=0.05):
-    objs = import_pattern(SKIRT_SVG, edge_length=edge)
+    import_pattern(SKIRT_SVG, edge_length=edge)
     return bpy.data.objects["skirt front"], bpy.data.objects["skirt back"]
 
 
@@ -114,7 +114,8 @@ def test_seam_lines_follow_the_pieces(scene, addon):
     bpy.ops.tailor.seam_add(piece_a=front.name, a_start=mf.corners[0], a_end=mf.corners[1], a_direction="CCW",
                             piece_b=back.name, b_start=mb.corners[1], b_direction="CW")
     item = scene.tailor.seams[0]
-    ((colour, segs),) = addon.seams.draw.seam_lines(scene)
+    ((colour, segs, active),) = addon.seams.draw.seam_lines(scene)
+    assert active
     n = item.a_count
     assert colour[:3] == pytest.approx(tuple(item.color)) and segs.shape == (2 * n + 2 * (n - 1) * 2, 3)
     # Pair lines join the world positions of the sewn vertices; moving a piece moves them.

@@ -4,7 +4,7 @@ import os
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
-from bpy_extras.io_utils import ImportHelper
+from bpy_extras.io_utils import ExportHelper, ImportHelper
 from mathutils import Euler, Matrix
 
 import tailor
@@ -36,7 +36,7 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
         "Import a sewing pattern (DXF, SVG or GarmentCode JSON): one mesh object per piece, "
         "GarmentCode placements and stitches applied"
     )
-    bl_options = {"REGISTER", "UNDO", "PRESET"}
+    bl_options = {"REGISTER", "UNDO"}
 
     filter_glob: StringProperty(default="*.dxf;*.DXF;*.svg;*.SVG;*.json;*.JSON", options={"HIDDEN"})
     edge_length: FloatProperty(
@@ -175,4 +175,26 @@ class TAILOR_OT_set_resolution(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (TAILOR_OT_import_pattern, TAILOR_OT_set_resolution)
+class TAILOR_OT_export_garment(bpy.types.Operator, ExportHelper):
+    bl_idname = "tailor.export_garment"
+    bl_label = "Export Tailor Garment"
+    bl_description = (
+        "Write the scene's garment (pieces, resolutions, placements, bends, seams) as a Tailor garment file "
+        "(.json + .bin) that the tailor module simulates without Blender"
+    )
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".json"
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+    garment: StringProperty(name="Garment", description="Only this garment's pieces (empty: every piece)")
+
+    @reports_errors("Exporting the garment")
+    def execute(self, context):
+        g = scene_data.garment_file(context.scene, self.garment or None)
+        path = bpy.path.abspath(self.filepath)
+        g.save(path)
+        self.report({"INFO"}, f"Wrote {os.path.basename(path)}: {len(g.pieces)} pieces, {len(g.seams)} seams")
+        return {"FINISHED"}
+
+
+classes = (TAILOR_OT_import_pattern, TAILOR_OT_set_resolution, TAILOR_OT_export_garment)

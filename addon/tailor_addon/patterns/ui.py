@@ -3,7 +3,7 @@
 import bpy
 
 from .. import scene_data
-from ..compat import import_menu
+from ..compat import export_menu, import_menu
 from ..ui_common import TailorPanel
 
 
@@ -14,7 +14,9 @@ class TAILOR_PT_patterns(TailorPanel, bpy.types.Panel):
 
     def draw(self, context):
         layout = self.layout
-        layout.operator("tailor.import_pattern", text="Import Pattern…", icon="IMPORT")
+        row = layout.row(align=True)
+        row.operator("tailor.import_pattern", text="Import Pattern…", icon="IMPORT")
+        row.operator("tailor.export_garment", text="Export…", icon="EXPORT")
         obj = context.active_object
         if not scene_data.is_piece(obj):
             layout.label(text="Select a garment piece", icon="INFO")
@@ -40,12 +42,18 @@ def menu_import(self, context):
     self.layout.operator("tailor.import_pattern", text="Sewing Pattern (.dxf, .svg, .json)")
 
 
+def menu_export(self, context):
+    self.layout.operator("tailor.export_garment", text="Tailor Garment (.json)")
+
+
 classes = (TAILOR_PT_patterns,)
 
 
 def register() -> None:
     import_menu().append(menu_import)
+    export_menu().append(menu_export)
 
 
 def unregister() -> None:
+    export_menu().remove(menu_export)
     import_menu().remove(menu_import)

@@ -68,14 +68,14 @@ def _points(pos: np.ndarray, verts, weights) -> np.ndarray:
     return pos[v[:, 0]] * w[:, :1] + pos[v[:, 1]] * w[:, 1:2]
 
 
-def seam_lines(scene) -> list[tuple[tuple[float, float, float, float], np.ndarray]]:
-    """(RGBA, (2k, 3) float32 segment endpoints) per visible seam: its two sides as polylines
-    and a line between every sewn pair."""
+def seam_lines(scene) -> list[tuple[tuple[float, float, float, float], np.ndarray, bool]]:
+    """(RGBA, (2k, 3) float32 segment endpoints, is the active seam) per visible seam: its two
+    sides as polylines and a line between every sewn pair."""
     if not scene.tailor.show_seams:
         return []
     out = []
     positions: dict = {}
-    for item in scene.tailor.seams:
+    for k, item in enumerate(scene.tailor.seams):
         if not item.show or not (scene_data.is_piece(item.piece_a) and scene_data.is_piece(item.piece_b)):
             continue
         r = _resolved(item)
@@ -96,7 +96,7 @@ def seam_lines(scene) -> list[tuple[tuple[float, float, float, float], np.ndarra
             if len(run) > 1:
                 sides.append(np.stack([run[:-1], run[1:]], axis=1).reshape(-1, 3))
         segs = np.concatenate([pairs] + sides).astype(np.float32)
-        out.append(((*item.color, 1.0), segs))
+        out.append(((*item.color, 1.0), segs, k == scene.tailor.seam_index))
     return out
 
 
@@ -115,9 +115,9 @@ def _draw() -> None:
     gpu.state.blend_set("ALPHA")
     shader.bind()
     shader.uniform_float("viewportSize", (context.region.width, context.region.height))
-    shader.uniform_float("lineWidth", 2.0)
-    for colour, segs in lines:
+    for colour, segs, active in lines:
         batch = batch_for_shader(shader, "LINES", {"pos": segs})
+        shader.uniform_float("lineWidth", 4.0 if active else 2.0)
         shader.uniform_float("color", colour)
         batch.draw(shader)
     gpu.state.depth_test_set("NONE")

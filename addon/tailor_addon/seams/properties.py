@@ -15,7 +15,6 @@ from bpy.props import (
     FloatVectorProperty,
     IntProperty,
     PointerProperty,
-    StringProperty,
 )
 
 DIRECTION_ITEMS = [

@@ -102,9 +102,7 @@ def build_zip(staged: Path, output: Path) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-o", "--output", type=Path, default=ROOT / "dist" / "tailor_addon.zip")
-    ap.add_argument(
-        "--wheel", type=Path, help="use this tailor wheel instead of building one (e.g. a CI artifact)"
-    )
+    ap.add_argument("--wheel", type=Path, help="use this tailor wheel instead of building one (e.g. a CI artifact)")
     args = ap.parse_args()
     wheel = args.wheel.resolve() if args.wheel else build_wheel()
     bundled = bundle_wheel(wheel)

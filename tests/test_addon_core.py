@@ -64,7 +64,9 @@ def test_scene_garment_builds_the_same_simulation_as_the_module():
     assert sim.seam_gaps() == pytest.approx(reference.seam_gaps())
     # The seams' stiffness factors multiply the solver's seam stiffness.
     stiff = [SeamData(s.name, s.a, s.b, s.mode, 3.0, 1.0) for s in seams]
-    assert core.garment_from_scene(pieces, stiff).build_simulation(seam_stiffness=100.0).num_particles == sim.num_particles
+    assert (
+        core.garment_from_scene(pieces, stiff).build_simulation(seam_stiffness=100.0).num_particles == sim.num_particles
+    )
 
 
 def test_edited_mesh_is_refused_with_what_to_do():

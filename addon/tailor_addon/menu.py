@@ -10,6 +10,7 @@ OPERATORS = (
     ("tailor.export_garment", "Export Tailor Garment…"),
     None,
     ("tailor.seam_add", "Add Seam"),
+    ("tailor.seam_add_segments", "Add Seam Between Segments"),
     ("tailor.seam_flip", "Flip Seam"),
     ("tailor.seam_rename", "Rename Seam…"),
     ("tailor.seam_remove", "Delete Seam"),

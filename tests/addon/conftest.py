@@ -40,9 +40,7 @@ def addon():
     """The installed, enabled add-on package (`bl_ext.user_default.tailor_addon`)."""
     if not ZIP.is_file():
         pytest.fail(f"{ZIP} is missing: build it with `make addon`")
-    result = bpy.ops.extensions.package_install_files(
-        filepath=str(ZIP), repo="user_default", enable_on_install=True
-    )
+    result = bpy.ops.extensions.package_install_files(filepath=str(ZIP), repo="user_default", enable_on_install=True)
     assert result == {"FINISHED"}
     enabled = [a.module for a in bpy.context.preferences.addons]
     assert MODULE in enabled, enabled

@@ -27,8 +27,14 @@ def test_bend_matches_the_module_and_recomputes_from_flat(scene, addon):
     rest = addon.scene_data.rest_of(obj)
     flat = np.c_[rest, np.zeros(len(rest), np.float32)]
     c = (rest.min(axis=0) + rest.max(axis=0)) / 2
-    kw = dict(axis_point=(c[0], c[1], -0.1), axis_direction=(0, 1, 0), use_symmetry=True,
-              symmetry_point=tuple(c), symmetry_direction=(0, 1), threshold=0.01)
+    kw = dict(
+        axis_point=(c[0], c[1], -0.1),
+        axis_direction=(0, 1, 0),
+        use_symmetry=True,
+        symmetry_point=tuple(c),
+        symmetry_direction=(0, 1),
+        threshold=0.01,
+    )
     assert bpy.ops.tailor.bend(angle=math.radians(90), **kw) == {"FINISHED"}
     sym = (tuple(map(float, c)), (0.0, 1.0))
     ref = tailor.bend(flat, rest, (float(c[0]), float(c[1]), -0.1), (0, 1, 0), 90.0, symmetry=sym, threshold=0.01)
@@ -42,8 +48,15 @@ def test_bend_matches_the_module_and_recomputes_from_flat(scene, addon):
     np.testing.assert_array_equal(addon.scene_data.rest_of(obj), rest)
     bpy.ops.tailor.set_resolution(edge_length=0.03)
     rest2 = addon.scene_data.rest_of(obj)
-    ref2 = tailor.bend(np.c_[rest2, np.zeros(len(rest2), np.float32)], rest2, (float(c[0]), float(c[1]), -0.1),
-                       (0, 1, 0), 45.0, symmetry=sym, threshold=0.01)
+    ref2 = tailor.bend(
+        np.c_[rest2, np.zeros(len(rest2), np.float32)],
+        rest2,
+        (float(c[0]), float(c[1]), -0.1),
+        (0, 1, 0),
+        45.0,
+        symmetry=sym,
+        threshold=0.01,
+    )
     np.testing.assert_allclose(local_positions(obj), ref2, atol=1e-5)
     # Angle 0 flattens.
     bpy.ops.tailor.bend(angle=0.0, **kw)

@@ -9,8 +9,7 @@ import textwrap
 
 from conftest import ROOT
 
-SCRIPT = textwrap.dedent(
-    """
+SCRIPT = textwrap.dedent("""
     import sys
     sys.path[:] = [p for p in sys.path if not p.startswith({dev!r})]
     sys.path.insert(0, {folder!r})
@@ -24,8 +23,7 @@ SCRIPT = textwrap.dedent(
     assert bpy.ops.tailor.import_pattern(filepath={pattern!r}) == {{"FINISHED"}}
     print("PIECES", len([o for o in bpy.data.objects if o.tailor_piece.is_piece]))
     tailor_addon.unregister()
-    """
-)
+    """)
 
 
 def test_legacy_folder_unpacks_its_wheel_and_imports(tmp_path):

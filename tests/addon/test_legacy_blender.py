@@ -12,8 +12,7 @@ from conftest import DATA, ROOT
 
 BLENDER = shutil.which("blender")
 
-SCRIPT = textwrap.dedent(
-    """
+SCRIPT = textwrap.dedent("""
     import math, sys
     try:
         import numpy
@@ -51,8 +50,7 @@ SCRIPT = textwrap.dedent(
         assert "no pattern file at" in str(e)
     tailor_addon.unregister()
     print("LEGACY_OK")
-    """
-)
+    """)
 
 
 @pytest.mark.skipif(BLENDER is None, reason="no `blender` executable (Debian's blender package)")
@@ -70,7 +68,10 @@ def test_legacy_addon_in_blender_headless(tmp_path):
     )
     run = subprocess.run(
         [BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python", str(script)],
-        capture_output=True, text=True, timeout=300, cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
     )
     if "NO_NUMPY" in run.stdout:
         pytest.skip("Blender's Python has no numpy (install python3-numpy)")

@@ -9,7 +9,10 @@ import bpy
 from conftest import DATA, MODULE, import_pattern
 
 FILES = sorted(
-    p for d in ("dxf", "svg", "garmentcode") for p in (DATA / d).iterdir() if p.suffix.lower() in (".dxf", ".svg", ".json")
+    p
+    for d in ("dxf", "svg", "garmentcode")
+    for p in (DATA / d).iterdir()
+    if p.suffix.lower() in (".dxf", ".svg", ".json")
 )
 SHIRT = DATA / "garmentcode/shirt_mean_specification.json"
 SKIRT_SVG = DATA / "svg/skirt_two_panels.svg"
@@ -40,8 +43,9 @@ def test_import_every_test_pattern(scene, addon, path):
         assert tailor.Piece.from_json(obj.tailor_piece.piece_json).name == piece.name
     # Pieces without a placement are laid side by side: their boxes do not overlap.
     flat = [o for o in objs if tailor.Piece.from_json(o.tailor_piece.piece_json).placement is None]
-    boxes = sorted((min(v[0] for v in o.bound_box) + o.location.x, max(v[0] for v in o.bound_box) + o.location.x)
-                   for o in flat)
+    boxes = sorted(
+        (min(v[0] for v in o.bound_box) + o.location.x, max(v[0] for v in o.bound_box) + o.location.x) for o in flat
+    )
     assert all(a[1] < b[0] for a, b in zip(boxes, boxes[1:]))
     # The scene's garment is what the module builds.
     sg = addon.scene_data.build_garment(scene)

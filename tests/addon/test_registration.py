@@ -12,7 +12,9 @@ def addon_classes(addon, base):
     out = []
     for name, mod in list(sys.modules.items()):
         if name.startswith(MODULE) and mod is not None:
-            out += [c for _, c in inspect.getmembers(mod, inspect.isclass) if issubclass(c, base) and c.__module__ == name]
+            out += [
+                c for _, c in inspect.getmembers(mod, inspect.isclass) if issubclass(c, base) and c.__module__ == name
+            ]
     return set(out)
 
 

@@ -34,8 +34,16 @@ def test_add_seam_from_contour_positions(scene, addon):
     a1, an = corner_run(mf)
     b1 = mb.corners[1]
     assert bpy.ops.tailor.seam_add(
-        name="side", piece_a=front.name, a_start=a1, a_end=an, a_direction="CCW",
-        piece_b=back.name, b_start=b1, b_end=-1, b_direction="CW", stiffness=2.0,
+        name="side",
+        piece_a=front.name,
+        a_start=a1,
+        a_end=an,
+        a_direction="CCW",
+        piece_b=back.name,
+        b_start=b1,
+        b_end=-1,
+        b_direction="CW",
+        stiffness=2.0,
     ) == {"FINISHED"}
     (item,) = scene.tailor.seams
     path_a = tailor.candidate_paths(mf, a1, (an - a1) % len(mf.contour) + 1)[0]
@@ -51,8 +59,16 @@ def test_add_seam_from_contour_positions(scene, addon):
     sim = sg.build_simulation()
     assert sim.num_particles == sg.num_particles
     # A second seam with the same name gets a unique one.
-    bpy.ops.tailor.seam_add(name="side", piece_a=front.name, a_start=mf.corners[2], a_end=mf.corners[3],
-                            a_direction="CCW", piece_b=back.name, b_start=mb.corners[3], b_direction="CW")
+    bpy.ops.tailor.seam_add(
+        name="side",
+        piece_a=front.name,
+        a_start=mf.corners[2],
+        a_end=mf.corners[3],
+        a_direction="CCW",
+        piece_b=back.name,
+        b_start=mb.corners[3],
+        b_direction="CW",
+    )
     assert [s.name for s in scene.tailor.seams] == ["side", "side.001"] and scene.tailor.seam_index == 1
 
 
@@ -65,8 +81,16 @@ def test_equal_seam_of_unequal_counts_is_refused_then_sewn_unequal(scene, addon)
     mf, mb = meshes(addon, front, back)
     a1, an = corner_run(mf)
     b1, bn = corner_run(mb)
-    kw = dict(piece_a=front.name, a_start=a1, a_end=an, a_direction="CCW",
-              piece_b=back.name, b_start=bn, b_end=b1, b_direction="CW")
+    kw = dict(
+        piece_a=front.name,
+        a_start=a1,
+        a_end=an,
+        a_direction="CCW",
+        piece_b=back.name,
+        b_start=bn,
+        b_end=b1,
+        b_direction="CW",
+    )
     with pytest.raises(RuntimeError, match="Adding the seam failed: .*set the seam's mode to Unequal"):
         bpy.ops.tailor.seam_add(mode="EQUAL", **kw)
     assert len(scene.tailor.seams) == 0
@@ -81,8 +105,15 @@ def test_equal_seam_of_unequal_counts_is_refused_then_sewn_unequal(scene, addon)
 def test_flip_rename_check_delete(scene, addon):
     front, back = two_panels()
     mf, mb = meshes(addon, front, back)
-    bpy.ops.tailor.seam_add(piece_a=front.name, a_start=mf.corners[0], a_end=mf.corners[1], a_direction="CCW",
-                            piece_b=back.name, b_start=mb.corners[1], b_direction="CW")
+    bpy.ops.tailor.seam_add(
+        piece_a=front.name,
+        a_start=mf.corners[0],
+        a_end=mf.corners[1],
+        a_direction="CCW",
+        piece_b=back.name,
+        b_start=mb.corners[1],
+        b_direction="CW",
+    )
     item = scene.tailor.seams[0]
     before = (tuple(item.b_start), tuple(item.b_end), item.b_direction)
     r0 = addon.scene_data.build_garment(scene).resolved[0]
@@ -111,8 +142,15 @@ def test_flip_rename_check_delete(scene, addon):
 def test_seam_lines_follow_the_pieces(scene, addon):
     front, back = two_panels()
     mf, mb = meshes(addon, front, back)
-    bpy.ops.tailor.seam_add(piece_a=front.name, a_start=mf.corners[0], a_end=mf.corners[1], a_direction="CCW",
-                            piece_b=back.name, b_start=mb.corners[1], b_direction="CW")
+    bpy.ops.tailor.seam_add(
+        piece_a=front.name,
+        a_start=mf.corners[0],
+        a_end=mf.corners[1],
+        a_direction="CCW",
+        piece_b=back.name,
+        b_start=mb.corners[1],
+        b_direction="CW",
+    )
     item = scene.tailor.seams[0]
     ((colour, segs, active),) = addon.seams.draw.seam_lines(scene)
     assert active
@@ -154,3 +192,32 @@ def test_seams_survive_save_reload_and_retriangulation(scene, addon, tmp_path):
     bpy.ops.wm.open_mainfile(filepath=str(path))
     sg = addon.scene_data.build_garment(bpy.context.scene)
     assert len(sg.resolved) == len(stored) and sg.build_simulation().num_particles == sg.num_particles
+
+
+def test_suggested_segments_sew_corner_to_corner(scene, addon):
+    """The automatic suggestion's exec path: the segment nearest each point, B reversed."""
+    import tailor
+
+    front, back = two_panels()
+    mf, mb = meshes(addon, front, back)
+    # A point just outside the middle of front's first corner-to-corner run, and of back's.
+    cf = tailor.find_corners(mf, 150.0)
+    cb = tailor.find_corners(mb, 150.0)
+    pf = np.mean([mf.contour_point(cf[0]), mf.contour_point(cf[1])], axis=0)
+    pb = np.mean([mb.contour_point(cb[0]), mb.contour_point(cb[1])], axis=0)
+    assert (
+        bpy.ops.tailor.seam_add_segments(piece_a=front.name, a_point=pf, piece_b=back.name, b_point=pb)
+        == {"FINISHED"}
+    )
+    (item,) = scene.tailor.seams
+    seg_a = tailor.nearest_corner_segment(mf, cf, tuple(pf))
+    seg_b = tailor.nearest_corner_segment(mb, cb, tuple(pb))
+    assert item.a_count == len(seg_a) and item.b_count == len(seg_b)
+    assert tuple(item.a_start) == pytest.approx(mf.contour_point(seg_a.positions[0]))
+    assert tuple(item.b_start) == pytest.approx(mb.contour_point(seg_b.positions[-1]))  # reversed
+    assert item.mode == ("EQUAL" if len(seg_a) == len(seg_b) else "UNEQUAL")
+    with pytest.raises(RuntimeError, match="fewer than two corners"):
+        bpy.ops.tailor.seam_add_segments(
+            piece_a=front.name, a_point=pf, piece_b=back.name, b_point=pb, corner_angle=0.01
+        )
+    assert len(scene.tailor.seams) == 1

@@ -63,31 +63,51 @@ class TAILOR_OT_bend(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     axis_point: FloatVectorProperty(
-        name="Axis Point", description="A point of the rotation axis (piece frame)", size=3, subtype="TRANSLATION",
+        name="Axis Point",
+        description="A point of the rotation axis (piece frame)",
+        size=3,
+        subtype="TRANSLATION",
         unit="LENGTH",
     )
     axis_direction: FloatVectorProperty(
-        name="Axis Direction", description="Direction of the rotation axis (piece frame)", size=3,
-        default=(0.0, 1.0, 0.0), subtype="DIRECTION",
+        name="Axis Direction",
+        description="Direction of the rotation axis (piece frame)",
+        size=3,
+        default=(0.0, 1.0, 0.0),
+        subtype="DIRECTION",
     )
     angle: FloatProperty(
-        name="Angle", description="Rotation of the vertex farthest from the centre or symmetry line",
-        subtype="ANGLE", default=math.radians(90.0), soft_min=-2 * math.pi, soft_max=2 * math.pi,
+        name="Angle",
+        description="Rotation of the vertex farthest from the centre or symmetry line",
+        subtype="ANGLE",
+        default=math.radians(90.0),
+        soft_min=-2 * math.pi,
+        soft_max=2 * math.pi,
     )
     use_symmetry: BoolProperty(
-        name="Symmetric", description="Bend the two sides of the symmetry line in opposite senses (a sleeve)",
+        name="Symmetric",
+        description="Bend the two sides of the symmetry line in opposite senses (a sleeve)",
         default=True,
     )
     symmetry_point: FloatVectorProperty(
-        name="Symmetry Point", description="A point of the symmetry line (rest frame)", size=2, unit="LENGTH",
+        name="Symmetry Point",
+        description="A point of the symmetry line (rest frame)",
+        size=2,
+        unit="LENGTH",
     )
     symmetry_direction: FloatVectorProperty(
-        name="Symmetry Direction", description="Direction of the symmetry line (rest frame)", size=2,
+        name="Symmetry Direction",
+        description="Direction of the symmetry line (rest frame)",
+        size=2,
         default=(0.0, 1.0),
     )
     threshold: FloatProperty(
-        name="Distance Threshold", description="Vertices closer than this to the axis do not move",
-        subtype="DISTANCE", unit="LENGTH", default=0.0, min=0.0,
+        name="Distance Threshold",
+        description="Vertices closer than this to the axis do not move",
+        subtype="DISTANCE",
+        unit="LENGTH",
+        default=0.0,
+        min=0.0,
     )
 
     @classmethod

@@ -21,7 +21,9 @@ class TAILOR_PT_bend(TailorPanel, bpy.types.Panel):
             return
         p = obj.tailor_piece
         if p.bend_angle:
-            layout.label(text=f"Bent by {math.degrees(p.bend_angle):.0f}°" + (" (symmetric)" if p.bend_symmetry else ""))
+            layout.label(
+                text=f"Bent by {math.degrees(p.bend_angle):.0f}°" + (" (symmetric)" if p.bend_symmetry else "")
+            )
         else:
             layout.label(text="Flat")
         row = layout.row(align=True)

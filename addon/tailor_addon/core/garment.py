@@ -43,7 +43,8 @@ class SeamSide:
 
     @staticmethod
     def from_dict(d: dict) -> "SeamSide":
-        return SeamSide(int(d["piece"]), tuple(d["start"]), tuple(d["end"]), str(d["direction"]))  # type: ignore[arg-type]
+        start, end = (float(d["start"][0]), float(d["start"][1])), (float(d["end"][0]), float(d["end"][1]))
+        return SeamSide(int(d["piece"]), start, end, str(d["direction"]))
 
 
 @dataclass

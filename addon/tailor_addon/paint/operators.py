@@ -88,7 +88,9 @@ class TAILOR_OT_paint_set(bpy.types.Operator):
 class TAILOR_OT_paint_weights(bpy.types.Operator):
     bl_idname = "tailor.paint_weights"
     bl_label = "Weight Paint Map"
-    bl_description = "Weight paint a Tailor map on the active mesh with Blender's own brushes (creates its vertex group)"
+    bl_description = (
+        "Weight paint a Tailor map on the active mesh with Blender's own brushes (creates its vertex group)"
+    )
     bl_options = {"REGISTER", "UNDO"}
 
     map: EnumProperty(name="Map", items=MAP_ITEMS)

@@ -58,8 +58,12 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
         name="Placement Up",
         description="Up axis of the file's placements",
         items=[
-            ("Y", "Y Up", "Y is up in the file (GarmentCode and its bodies): turn it to Blender's Z up, as the OBJ "
-             "importer does"),
+            (
+                "Y",
+                "Y Up",
+                "Y is up in the file (GarmentCode and its bodies): turn it to Blender's Z up, as the OBJ "
+                "importer does",
+            ),
             ("Z", "Z Up", "Use the placements as they are"),
         ],
         default="Y",
@@ -122,7 +126,6 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
             self.report({"WARNING"}, w)
         self.report({"INFO"}, f"Imported {len(objects)} pieces and {len(seams)} seams from {os.path.basename(path)}")
         return {"FINISHED"}
-
 
     def placement_matrix(self, placement: dict) -> Matrix:
         loc, rot = placement_rotation(placement)

@@ -12,7 +12,9 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
     is_piece: BoolProperty(name="Garment Piece", description="This mesh is a Tailor garment piece", default=False)
     piece_name: StringProperty(name="Piece", description="Name of the piece in its pattern file")
     garment: StringProperty(name="Garment", description="The garment this piece belongs to (its pattern's name)")
-    source_path: StringProperty(name="Pattern File", description="The file the piece was imported from", subtype="FILE_PATH")
+    source_path: StringProperty(
+        name="Pattern File", description="The file the piece was imported from", subtype="FILE_PATH"
+    )
     source_index: IntProperty(name="Index in File", description="Position of the piece in its pattern file", min=0)
     piece_json: StringProperty(
         name="Pattern Piece",
@@ -37,7 +39,9 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
     stretch: FloatProperty(
         name="Stretch", description="Stretch stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.stretch
     )
-    shear: FloatProperty(name="Shear", description="Shear stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.shear)
+    shear: FloatProperty(
+        name="Shear", description="Shear stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.shear
+    )
     bend: FloatProperty(
         name="Bend", description="Bending stiffness of the fabric, N·m", min=0.0, default=_DEFAULT.bend, precision=6
     )

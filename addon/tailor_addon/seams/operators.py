@@ -5,8 +5,10 @@ scripts, tests and the interactive tools (manual picking, hover suggestion) shar
 tool ends by calling `bpy.ops.tailor.seam_add(...)` with what the artist picked.
 """
 
+import math
+
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
 import tailor
 
@@ -99,7 +101,9 @@ class TAILOR_OT_seam_add(bpy.types.Operator):
     )
     b_direction: EnumProperty(name="B Walk", items=PATH_ITEMS, default="CCW")
     mode: EnumProperty(name="Mode", items=MODE_ITEMS, default="EQUAL")
-    stiffness: FloatProperty(name="Stiffness", description="Factor on the solver's seam stiffness", default=1.0, min=0.0)
+    stiffness: FloatProperty(
+        name="Stiffness", description="Factor on the solver's seam stiffness", default=1.0, min=0.0
+    )
 
     @reports_errors("Adding the seam")
     def execute(self, context):
@@ -117,6 +121,71 @@ class TAILOR_OT_seam_add(bpy.types.Operator):
         r = resolve(seam, [ma] if ib == 0 else [ma, mb])
         add_seam_item(scene, seam, objects, r)
         self.report({"INFO"}, f"Seam '{name}': {len(r['a_vertices'])} + {len(r['b_vertices'])} vertices, {mode}")
+        return {"FINISHED"}
+
+
+def suggested_segment(obj, rest_point, corner_angle: float) -> tailor.ContourPath:
+    """The corner-delimited contour run of piece `obj` nearest `rest_point` (rest frame,
+    metres), corners being contour angles under `corner_angle` radians: what the automatic
+    suggestion lights up under the cursor."""
+    mesh = mesh_of(obj)
+    corners = tailor.find_corners(mesh, math.degrees(corner_angle))
+    if len(corners) < 2:
+        raise AddonError(
+            f"piece '{obj.name}' has fewer than two corners under {math.degrees(corner_angle):.0f}°",
+            "Raise the corner angle in the Seams panel",
+        )
+    return tailor.nearest_corner_segment(mesh, corners, (float(rest_point[0]), float(rest_point[1])))
+
+
+def reversed_path(path: tailor.ContourPath) -> tailor.ContourPath:
+    return tailor.ContourPath(list(reversed(path.positions)), "cw" if path.direction == "ccw" else "ccw")
+
+
+class TAILOR_OT_seam_add_segments(bpy.types.Operator):
+    bl_idname = "tailor.seam_add_segments"
+    bl_label = "Add Seam Between Segments"
+    bl_description = (
+        "Sew the corner-to-corner contour segment of piece A nearest a point to the one of piece B nearest "
+        "another point (the automatic suggestion); unequal pairing when their vertex counts differ"
+    )
+    bl_options = {"REGISTER", "UNDO"}
+
+    name: StringProperty(name="Name", default="Seam")
+    piece_a: StringProperty(name="Piece A", description="Name of side A's piece object")
+    a_point: FloatVectorProperty(name="A Point", size=2, description="A point near side A (piece A's rest frame)")
+    piece_b: StringProperty(name="Piece B", description="Name of side B's piece object")
+    b_point: FloatVectorProperty(name="B Point", size=2, description="A point near side B (piece B's rest frame)")
+    corner_angle: FloatProperty(
+        name="Corner Angle",
+        description="Contour angles under this are corners; 0: the scene's setting",
+        subtype="ANGLE",
+        default=0.0,
+        min=0.0,
+        max=math.pi,
+    )
+    reverse_b: BoolProperty(
+        name="Reverse B", description="Walk side B against side A (two panels facing each other)", default=True
+    )
+
+    @reports_errors("Adding the suggested seam")
+    def execute(self, context):
+        scene = context.scene
+        obj_a, obj_b = piece_object(self.piece_a, "side A"), piece_object(self.piece_b, "side B")
+        angle = self.corner_angle or scene.tailor.corner_angle
+        path_a = suggested_segment(obj_a, self.a_point, angle)
+        path_b = suggested_segment(obj_b, self.b_point, angle)
+        if self.reverse_b:
+            path_b = reversed_path(path_b)
+        ma, mb = mesh_of(obj_a), mesh_of(obj_b)
+        same = obj_a == obj_b
+        mode = "equal" if len(path_a) == len(path_b) else "unequal"
+        name = unique_seam_name(scene, self.name or "Seam")
+        seam = SeamData.from_tailor(tailor.Seam.from_paths(name, 0, ma, path_a, 0 if same else 1, mb, path_b, mode))
+        objects = [obj_a] if same else [obj_a, obj_b]
+        r = resolve(seam, [ma] if same else [ma, mb])
+        add_seam_item(scene, seam, objects, r)
+        self.report({"INFO"}, f"Seam '{name}': {len(path_a)} + {len(path_b)} vertices, {mode}")
         return {"FINISHED"}
 
 
@@ -221,4 +290,11 @@ def checked_seam(item, flip: bool = False) -> tuple[list, dict]:
     return objects, resolve(seam, [mesh_of(o) for o in objects])
 
 
-classes = (TAILOR_OT_seam_add, TAILOR_OT_seam_remove, TAILOR_OT_seam_flip, TAILOR_OT_seam_rename, TAILOR_OT_seams_update)
+classes = (
+    TAILOR_OT_seam_add,
+    TAILOR_OT_seam_add_segments,
+    TAILOR_OT_seam_remove,
+    TAILOR_OT_seam_flip,
+    TAILOR_OT_seam_rename,
+    TAILOR_OT_seams_update,
+)

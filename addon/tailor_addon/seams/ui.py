@@ -38,7 +38,9 @@ class TAILOR_PT_seams(TailorPanel, bpy.types.Panel):
         col.operator("tailor.seam_rename", text="", icon="GREASEPENCIL")
         col.separator()
         col.operator("tailor.seams_update", text="", icon="FILE_REFRESH")
-        layout.prop(settings, "show_seams")
+        row = layout.row()
+        row.prop(settings, "show_seams")
+        row.prop(settings, "corner_angle")
         if not (0 <= settings.seam_index < len(settings.seams)):
             return
         seam = settings.seams[settings.seam_index]

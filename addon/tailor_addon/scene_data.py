@@ -64,6 +64,29 @@ def rest_of(obj) -> np.ndarray | None:
     return point_attribute(obj.data, REST_ATTR, np.float32, 2)
 
 
+def rest_point(obj, world_point) -> tuple[float, float] | None:
+    """The rest-frame (2D, metres) point of piece `obj` under a world-space point (the surface
+    point nearest it, through Blender's own BVH and barycentric transform), or None when the
+    mesh has no faces. Picking tools turn a ray-cast hit into the input of
+    `tailor.nearest_contour_position` and friends with it; it follows bends and transforms."""
+    from mathutils.geometry import barycentric_transform
+
+    inv = obj.matrix_world.inverted()
+    local = inv @ Vector(world_point)
+    hit, loc, _normal, face = obj.closest_point_on_mesh(local)
+    if not hit or face < 0:
+        return None
+    rest = rest_of(obj)
+    if rest is None:
+        return None
+    me = obj.data
+    verts = me.polygons[face].vertices
+    a, b, c = (me.vertices[i].co for i in verts[:3])
+    ra, rb, rc = (Vector((rest[i][0], rest[i][1], 0.0)) for i in verts[:3])
+    p = barycentric_transform(loc, a, b, c, ra, rb, rc)
+    return float(p.x), float(p.y)
+
+
 def write_mesh(me, arrays: MeshArrays) -> None:
     """Replaces `me`'s geometry with a piece mesh and its Tailor attributes, in place (the
     object, its name, transform, modifiers and materials stay)."""

@@ -72,3 +72,17 @@ def test_bad_bend_is_reported_and_changes_nothing(scene, addon):
         bpy.ops.tailor.bend(angle=1.0, axis_direction=(0, 0, 0))
     np.testing.assert_array_equal(local_positions(obj), before)
     assert obj.tailor_piece.bend_angle == 0.0
+
+
+def test_rest_point_under_a_world_point_follows_the_bend(scene, addon):
+    """Picking tools map a hit on a placed, bent piece back to its rest frame."""
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    obj.location = (0.3, -0.2, 0.5)
+    obj.rotation_euler = (0.4, 0.0, 1.0)
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.tailor.bend(angle=math.radians(70))
+    bpy.context.view_layer.update()
+    rest = addon.scene_data.rest_of(obj)
+    world = addon.scene_data.vertex_positions(obj)
+    for i in (0, len(rest) // 3, len(rest) - 1):
+        assert addon.scene_data.rest_point(obj, world[i]) == pytest.approx(tuple(rest[i]), abs=1e-5)

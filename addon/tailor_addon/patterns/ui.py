@@ -30,6 +30,14 @@ class TAILOR_PT_patterns(TailorPanel, bpy.types.Panel):
         row = box.row(align=True)
         row.label(text=f"Resolution: {p.edge_length * 100:.3g} cm")
         row.operator("tailor.set_resolution", text="Set…", icon="MOD_TRIANGULATE")
+        pieces = scene_data.piece_objects(context.scene, p.garment)
+        if len(pieces) > 1:
+            col = box.column(align=True)
+            col.label(text=f"{len(pieces)} pieces in {p.garment}:")
+            for o in pieces:
+                r = col.row()
+                r.label(text=o.name, icon="RADIOBUT_ON" if o == obj else "RADIOBUT_OFF")
+                r.label(text=f"{len(o.data.vertices)} v, {o.tailor_piece.edge_length * 100:.3g} cm")
         col = box.column(align=True)
         col.label(text="Fabric")
         col.prop(p, "density")

@@ -113,3 +113,7 @@ def test_set_resolution_error_changes_nothing(scene, addon):
     with pytest.raises(RuntimeError, match="Changing the resolution failed: .*piece JSON"):
         bpy.ops.tailor.set_resolution(edge_length=0.02)
     assert len(a.data.vertices) == n and a.tailor_piece.edge_length == pytest.approx(0.05)
+    bpy.ops.object.mode_set(mode="EDIT")
+    with pytest.raises(RuntimeError, match="in Edit Mode"):
+        bpy.ops.tailor.set_resolution(edge_length=0.02)
+    bpy.ops.object.mode_set(mode="OBJECT")

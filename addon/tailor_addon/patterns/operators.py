@@ -173,6 +173,8 @@ class TAILOR_OT_set_resolution(bpy.types.Operator):
             targets = [context.active_object]
         if not targets:
             raise AddonError("no garment piece is selected", "Select the pieces to re-triangulate")
+        if any(o.mode != "OBJECT" for o in targets):
+            raise AddonError("a piece to re-triangulate is in Edit Mode", "Switch to Object Mode first")
         rebuild.set_resolution(context.scene, targets, self.edge_length)
         self.report({"INFO"}, f"Re-triangulated {len(targets)} piece(s) at {self.edge_length * 100:.3g} cm")
         return {"FINISHED"}

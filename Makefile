@@ -6,7 +6,10 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.tailor-built
 SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o -name '*.pyi' -o -name '*.wgsl') Cargo.toml pyproject.toml
 
-.PHONY: demo test test-rust test-python bench setup develop clean samples-character
+ADDON_ZIP := dist/tailor_addon.zip
+ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
+
+.PHONY: demo test test-rust test-python test-addon addon bench setup develop clean samples-character
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -23,7 +26,19 @@ test-rust:
 	cargo test -p tailor-core --release --features gpu --lib gpu::
 
 test-python: develop
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q tests --ignore=tests/addon
+	$(MAKE) test-addon
+
+## The Blender add-on's tests: install the built zip into a throw-away Blender user directory
+## (bpy wheel, headless) in a process of its own, so it uses the wheel bundled in the zip.
+test-addon: addon
+	$(PY) -m pytest -q --confcutdir=tests/addon tests/addon
+
+## The installable Blender extension: dist/tailor_addon.zip with the tailor wheel bundled.
+addon: $(ADDON_ZIP)
+
+$(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
+	$(PY) addon/build_addon.py -o $@
 
 ## Benchmarks (print figures; not part of the tests).
 bench: develop
@@ -49,4 +64,4 @@ $(STAMP): $(VENV)/.tailor-setup $(SOURCES)
 	touch $@
 
 clean:
-	rm -rf $(VENV) target out
+	rm -rf $(VENV) target out build dist addon/tailor_addon/wheels addon/tailor_addon/_vendor

@@ -157,3 +157,64 @@ def test_file_errors_are_typed_and_name_the_file(tmp_path):
         tailor.read_pattern(str(junk))
     with pytest.raises(tailor.InvalidParameterError):
         tailor.read_pattern(str(SHIRT), units="furlongs")
+
+
+def test_piece_json_round_trip_rebuilds_the_same_mesh():
+    piece = tailor.read_pattern(str(SHIRT)).pieces[1]
+    again = tailor.Piece.from_json(piece.to_json())
+    assert again.name == piece.name and np.array_equal(again.outline, piece.outline)
+    assert again.placement == piece.placement and again.edges == piece.edges
+    m1, m2 = tailor.triangulate(piece, 0.03), tailor.triangulate(again, 0.03)
+    assert np.array_equal(m1.rest, m2.rest) and np.array_equal(m1.triangles, m2.triangles)
+    with pytest.raises(tailor.PatternError, match="piece JSON"):
+        tailor.Piece.from_json('{"name": "x"}')
+
+
+def test_seam_from_stored_sides_resolves_like_the_original():
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.03)
+    meshes = g.meshes()
+    s = g.seams[0]
+    stored = tailor.Seam(s.name, s.a, s.b, mode=s.mode, stiffness=2.5, bend_stiffness=0.5)
+    assert (stored.stiffness, stored.bend_stiffness, stored.a, stored.b) == (2.5, 0.5, s.a, s.b)
+    r1, r2 = s.resolve(meshes), stored.resolve(meshes)
+    assert r1["a_vertices"] == r2["a_vertices"] and r1["b_vertices"] == r2["b_vertices"]
+    with pytest.raises(tailor.InvalidParameterError, match="direction"):
+        tailor.Seam("bad", dict(s.a, direction="up"), s.b)
+    with pytest.raises(tailor.InvalidParameterError, match="stiffness"):
+        tailor.Seam("bad", s.a, s.b, stiffness=-1.0)
+    with pytest.raises(tailor.InvalidParameterError, match="needs the key"):
+        tailor.Seam("bad", {"start": [0, 0]}, s.b)
+
+
+def test_garment_from_parts_rebuilds_the_same_garment(tmp_path):
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.04)
+    bend = {
+        "axis_point": [0.0, 1.2, 0.0],
+        "axis_direction": [0, 1, 0],
+        "angle_deg": 30.0,
+        "symmetry": ((0.0, 0.0), (0.0, 1.0)),
+        "threshold": 0.0,
+    }
+    g.set_bend(2, bend["axis_point"], bend["axis_direction"], 30.0, symmetry=bend["symmetry"])
+    pieces = g.pieces
+    moved = dict(pieces[0].placement, translation=[0.1, 0.2, 0.3])
+    g2 = tailor.Garment.from_parts(
+        pieces,
+        g.edge_lengths,
+        g.seams,
+        placements=[moved] + [None] * (len(pieces) - 1),
+        bends=[None, None, bend] + [None] * (len(pieces) - 3),
+    )
+    (s1, o1), (s2, o2) = g.build_simulation(), g2.build_simulation()
+    n0 = o1[1]
+    np.testing.assert_array_equal(s1.positions[n0:], s2.positions[n0:])
+    shift = np.array([0.1, 0.2, 0.3]) - np.array(pieces[0].placement["translation"])
+    np.testing.assert_allclose(s2.positions[:n0] - s1.positions[:n0], np.tile(shift, (n0, 1)), atol=1e-5)
+    g2.save(str(tmp_path / "g.json"))
+    assert len(tailor.Garment.load(str(tmp_path / "g.json")).seams) == len(g.seams)
+    with pytest.raises(tailor.InvalidParameterError, match="3 pieces but 2 edge lengths"):
+        tailor.Garment.from_parts(pieces[:3], [0.04, 0.04], [])
+    with pytest.raises(tailor.InvalidParameterError, match="angle_deg"):
+        tailor.Garment.from_parts(pieces[:1], [0.04], [], bends=[{"axis_point": [0, 0, 0], "axis_direction": [0, 1, 0]}])
+    with pytest.raises(tailor.SeamError):
+        tailor.Garment.from_parts(pieces[:1], [0.04], [g.seams[0]])

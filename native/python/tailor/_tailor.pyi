@@ -191,6 +191,9 @@ class Piece:
     fixed_vertices: list[int]
     placement: dict[str, Any] | None
     edges: list[tuple[int, int]]
+    def to_json(self) -> str: ...
+    @staticmethod
+    def from_json(text: str) -> Piece: ...
 
 class Pattern:
     source: str
@@ -226,6 +229,15 @@ class Seam:
     b: dict[str, Any]
     stiffness: float
     bend_stiffness: float
+    def __init__(
+        self,
+        name: str,
+        a: dict[str, Any],
+        b: dict[str, Any],
+        mode: str = "equal",
+        stiffness: float = 1.0,
+        bend_stiffness: float = 1.0,
+    ) -> None: ...
     @staticmethod
     def from_paths(
         name: str,
@@ -251,6 +263,14 @@ class Garment:
         size: str | None = None,
         units: str | None = None,
         tolerance: float = 0.0005,
+    ) -> Garment: ...
+    @staticmethod
+    def from_parts(
+        pieces: Sequence[Piece],
+        edge_lengths: Sequence[float],
+        seams: Sequence[Seam],
+        placements: Sequence[dict[str, Any] | None] | None = None,
+        bends: Sequence[dict[str, Any] | None] | None = None,
     ) -> Garment: ...
     @staticmethod
     def load(path: str) -> Garment: ...

@@ -5,9 +5,11 @@
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use tailor_core::bend::{bend_piece, BendParams, SymmetryLine};
 use tailor_core::garment::{self as core, BuildOptions};
-use tailor_core::garment_file;
+use tailor_core::garment_file::{self, GarmentPiece};
+use tailor_core::pattern::Placement;
 use tailor_core::triangulate::{PieceMesh as CoreMesh, TriangulateOptions};
 use tailor_core::TailorError;
 
@@ -51,6 +53,53 @@ impl Garment {
         let read = read_options(size, units, tolerance)?;
         let (_, inner, meshes) =
             py.detach(|| core::read_garment(&path, &read, &TriangulateOptions::new(edge))).map_err(to_py)?;
+        Ok(Self { inner, meshes: Some(meshes) })
+    }
+
+    /// A garment from its parts, e.g. as a host application (the Blender add-on) keeps them:
+    /// `pieces` with their target edge lengths, `seams` over piece indices, and per piece an
+    /// optional placement (`{"translation", "rotation_deg", "flipped"}`, as `Piece.placement`;
+    /// it overrides the piece's own) and bend (`{"axis_point", "axis_direction", "angle_deg",
+    /// "symmetry", "threshold"}`, as `set_bend` takes them). Every seam is checked against the
+    /// meshes.
+    #[staticmethod]
+    #[pyo3(signature = (pieces, edge_lengths, seams, placements=None, bends=None))]
+    fn from_parts(
+        py: Python<'_>,
+        pieces: Vec<Piece>,
+        edge_lengths: Vec<f64>,
+        seams: Vec<Seam>,
+        placements: Option<Vec<Option<Bound<'_, PyDict>>>>,
+        bends: Option<Vec<Option<Bound<'_, PyDict>>>>,
+    ) -> PyResult<Self> {
+        let n = pieces.len();
+        let count = |what: &'static str, len: usize| {
+            if len == n {
+                Ok(())
+            } else {
+                Err(to_py(TailorError::shape("Garment.from_parts", format!("{n} pieces but {len} {what}"))))
+            }
+        };
+        count("edge lengths", edge_lengths.len())?;
+        let placements = placements.unwrap_or_else(|| vec![None; n]);
+        let bends = bends.unwrap_or_else(|| vec![None; n]);
+        count("placements", placements.len())?;
+        count("bends", bends.len())?;
+        let mut inner = garment_file::Garment::default();
+        for (((piece, edge), placement), bend) in pieces.into_iter().zip(edge_lengths).zip(placements).zip(bends) {
+            inner.pieces.push(GarmentPiece {
+                source: piece.inner,
+                options: TriangulateOptions::new(edge),
+                placement: placement.map(|d| placement_from(&d)).transpose()?,
+                bend: bend.map(|d| bend_from(&d)).transpose()?,
+            });
+        }
+        inner.seams = seams.into_iter().map(|s| s.inner).collect();
+        let g = &inner;
+        let meshes = py.detach(|| core::triangulate_all(g)).map_err(to_py)?;
+        for seam in &inner.seams {
+            seam.resolve(&meshes).map_err(to_py)?;
+        }
         Ok(Self { inner, meshes: Some(meshes) })
     }
 
@@ -179,6 +228,40 @@ impl Garment {
     fn __repr__(&self) -> String {
         format!("Garment({} pieces, {} seams)", self.inner.pieces.len(), self.inner.seams.len())
     }
+}
+
+fn item<'py>(d: &Bound<'py, PyDict>, key: &'static str, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    d.get_item(key)?.ok_or_else(|| to_py(TailorError::setting(key, what, "is missing")))
+}
+
+fn placement_from(d: &Bound<'_, PyDict>) -> PyResult<Placement> {
+    let flipped = match d.get_item("flipped")? {
+        Some(v) => v.extract()?,
+        None => false,
+    };
+    Ok(Placement {
+        translation: item(d, "translation", "placement")?.extract()?,
+        rotation_deg: item(d, "rotation_deg", "placement")?.extract()?,
+        flipped,
+    })
+}
+
+fn bend_from(d: &Bound<'_, PyDict>) -> PyResult<BendParams> {
+    let symmetry: Option<([f64; 2], [f64; 2])> = match d.get_item("symmetry")? {
+        Some(v) if !v.is_none() => Some(v.extract()?),
+        _ => None,
+    };
+    let threshold = match d.get_item("threshold")? {
+        Some(v) => v.extract()?,
+        None => 0.0,
+    };
+    Ok(bend_params(
+        item(d, "axis_point", "bend")?.extract()?,
+        item(d, "axis_direction", "bend")?.extract()?,
+        item(d, "angle_deg", "bend")?.extract()?,
+        symmetry,
+        threshold,
+    ))
 }
 
 fn bend_params(

@@ -51,6 +51,27 @@ pub struct Piece {
 
 #[pymethods]
 impl Piece {
+    /// The piece as JSON text (outline, holes, lines, notches, placement, edges), so that a host
+    /// application can store it (the Blender add-on keeps it on the piece object) and rebuild
+    /// the exact same mesh later with `triangulate(Piece.from_json(text), edge)`.
+    fn to_json(&self) -> PyResult<String> {
+        serde_json::to_string(&self.inner)
+            .map_err(|e| to_py(TailorError::shape(format!("piece {}", self.inner.name), e.to_string())))
+    }
+    /// The piece stored by `to_json`.
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        let inner: core::Piece =
+            serde_json::from_str(text).map_err(|e| to_py(TailorError::parse("piece JSON", "piece", e.to_string())))?;
+        if inner.outline.len() < 3 || inner.outline.iter().flatten().any(|c| !c.is_finite()) {
+            return Err(to_py(TailorError::parse(
+                "piece JSON",
+                inner.name.clone(),
+                "the outline needs at least 3 finite points",
+            )));
+        }
+        Ok(Self { inner })
+    }
     #[getter]
     fn name(&self) -> &str {
         &self.inner.name

@@ -46,8 +46,55 @@ fn side_dict<'py>(py: Python<'py>, s: &core::SeamSide) -> PyResult<Bound<'py, Py
     Ok(d)
 }
 
+fn side_from_dict(d: &Bound<'_, PyDict>, label: &str) -> PyResult<core::SeamSide> {
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        d.get_item(key)?
+            .ok_or_else(|| to_py(TailorError::setting("seam side", label, format!("needs the key \"{key}\""))))
+    };
+    let direction: String = get("direction")?.extract()?;
+    Ok(core::SeamSide {
+        piece: get("piece")?.extract()?,
+        start: get("start")?.extract()?,
+        end: get("end")?.extract()?,
+        direction: crate::contour::parse_direction(&direction)?,
+    })
+}
+
 #[pymethods]
 impl Seam {
+    /// A seam from its stored sides (dicts as `Seam.a` returns them: `piece`, `start`, `end`,
+    /// `direction`), e.g. kept by a host application between sessions. It is checked against
+    /// the meshes when resolved. `stiffness` and `bend_stiffness` are factors on the solver's
+    /// seam stiffnesses.
+    #[new]
+    #[pyo3(signature = (name, a, b, mode="equal", stiffness=1.0, bend_stiffness=1.0))]
+    fn new(
+        name: &str,
+        a: &Bound<'_, PyDict>,
+        b: &Bound<'_, PyDict>,
+        mode: &str,
+        stiffness: f32,
+        bend_stiffness: f32,
+    ) -> PyResult<Self> {
+        for (v, n) in [(stiffness, "stiffness"), (bend_stiffness, "bend_stiffness")] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(to_py(TailorError::setting(
+                    if n == "stiffness" { "stiffness" } else { "bend_stiffness" },
+                    v,
+                    "must be a finite factor of 0 or more",
+                )));
+            }
+        }
+        let inner = core::Seam {
+            name: name.to_string(),
+            a: side_from_dict(a, "a")?,
+            b: side_from_dict(b, "b")?,
+            mode: parse_mode(mode)?,
+            stiffness,
+            bend_stiffness,
+        };
+        Ok(Self { inner })
+    }
     /// A validated seam from two picked paths (`piece_a`, `piece_b`: indices of the pieces in
     /// the list later passed to `resolve`).
     #[staticmethod]

@@ -1,0 +1,157 @@
+"""The Bend operator: wrap a flat piece around an axis (paper Fig. 4) with `tailor.bend`.
+
+The bend is always applied to the piece's flat rest shape in its own (object) frame and stored
+on the piece (`Object.tailor_piece.bend_*`), so changing any value in the redo panel recomputes
+it from flat, angle 0 makes the piece flat again, and a change of resolution re-applies it.
+The exec path takes the axis in the piece's local frame; the interactive gizmo converts the
+axis it places in the viewport and calls it (or `bend_positions` for its live preview).
+"""
+
+import math
+
+import bpy
+import numpy as np
+from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty
+
+import tailor
+
+from .. import scene_data
+from ..core import AddonError
+from ..reporting import reports_errors
+
+
+def flat_positions(obj) -> np.ndarray:
+    rest = scene_data.rest_of(obj)
+    if rest is None or len(rest) != len(obj.data.vertices):
+        raise AddonError(
+            f"piece '{obj.name}' has no rest shape matching its mesh",
+            "Set its resolution again (Patterns panel) to rebuild it",
+        )
+    co = np.zeros((len(rest), 3), np.float32)
+    co[:, :2] = rest
+    return co
+
+
+def bend_positions(obj, axis_point, axis_direction, angle: float, symmetry=None, threshold: float = 0.0):
+    """New local vertex positions of piece `obj` bent from flat (angle in radians)."""
+    co = flat_positions(obj)
+    if angle == 0.0:
+        return co
+    return tailor.bend(
+        co,
+        co[:, :2],
+        tuple(axis_point),
+        tuple(axis_direction),
+        math.degrees(angle),
+        symmetry=symmetry,
+        threshold=threshold,
+    )
+
+
+def write_positions(obj, co: np.ndarray) -> None:
+    obj.data.vertices.foreach_set("co", np.ascontiguousarray(co, np.float32).reshape(-1))
+    obj.data.update()
+
+
+class TAILOR_OT_bend(bpy.types.Operator):
+    bl_idname = "tailor.bend"
+    bl_label = "Bend Piece"
+    bl_description = (
+        "Bend the active flat piece around an axis (in the piece's own frame) so it wraps around a limb; "
+        "angle 0 flattens it"
+    )
+    bl_options = {"REGISTER", "UNDO"}
+
+    axis_point: FloatVectorProperty(
+        name="Axis Point",
+        description="A point of the rotation axis (piece frame)",
+        size=3,
+        subtype="TRANSLATION",
+        unit="LENGTH",
+    )
+    axis_direction: FloatVectorProperty(
+        name="Axis Direction",
+        description="Direction of the rotation axis (piece frame)",
+        size=3,
+        default=(0.0, 1.0, 0.0),
+        subtype="DIRECTION",
+    )
+    angle: FloatProperty(
+        name="Angle",
+        description="Rotation of the vertex farthest from the centre or symmetry line",
+        subtype="ANGLE",
+        default=math.radians(90.0),
+        soft_min=-2 * math.pi,
+        soft_max=2 * math.pi,
+    )
+    use_symmetry: BoolProperty(
+        name="Symmetric",
+        description="Bend the two sides of the symmetry line in opposite senses (a sleeve)",
+        default=True,
+    )
+    symmetry_point: FloatVectorProperty(
+        name="Symmetry Point",
+        description="A point of the symmetry line (rest frame)",
+        size=2,
+        unit="LENGTH",
+    )
+    symmetry_direction: FloatVectorProperty(
+        name="Symmetry Direction",
+        description="Direction of the symmetry line (rest frame)",
+        size=2,
+        default=(0.0, 1.0),
+    )
+    threshold: FloatProperty(
+        name="Distance Threshold",
+        description="Vertices closer than this to the axis do not move",
+        subtype="DISTANCE",
+        unit="LENGTH",
+        default=0.0,
+        min=0.0,
+    )
+
+    @classmethod
+    def poll(cls, context):
+        return scene_data.is_piece(context.active_object)
+
+    def invoke(self, context, event):
+        """Values not given by the caller: the piece's stored bend, or for a flat piece the
+        axis along its vertical centre line 10 cm behind it and the symmetry line on it."""
+        obj = context.active_object
+        p = obj.tailor_piece
+        rest = scene_data.rest_of(obj)
+        c = (rest.min(axis=0) + rest.max(axis=0)) / 2 if rest is not None and len(rest) else np.zeros(2)
+        bent = p.bend_angle != 0.0
+        defaults = {
+            "axis_point": p.bend_axis_point if bent else (float(c[0]), float(c[1]), -0.1),
+            "axis_direction": p.bend_axis_direction if bent else (0.0, 1.0, 0.0),
+            "angle": p.bend_angle if bent else math.radians(90.0),
+            "use_symmetry": p.bend_symmetry if bent else True,
+            "symmetry_point": p.bend_symmetry_point if bent else (float(c[0]), float(c[1])),
+            "symmetry_direction": p.bend_symmetry_direction if bent else (0.0, 1.0),
+            "threshold": p.bend_threshold if bent else 0.0,
+        }
+        for name, value in defaults.items():
+            if not self.properties.is_property_set(name):
+                setattr(self, name, value)
+        return self.execute(context)
+
+    @reports_errors("Bending the piece")
+    def execute(self, context):
+        obj = context.active_object
+        if not scene_data.is_piece(obj):
+            raise AddonError("the active object is not a garment piece", "Select an imported piece")
+        if obj.mode != "OBJECT":
+            raise AddonError("the piece is in edit mode", "Switch to Object Mode to bend it")
+        symmetry = (tuple(self.symmetry_point), tuple(self.symmetry_direction)) if self.use_symmetry else None
+        co = bend_positions(obj, self.axis_point, self.axis_direction, self.angle, symmetry, self.threshold)
+        write_positions(obj, co)
+        p = obj.tailor_piece
+        p.bend_angle = self.angle
+        p.bend_axis_point, p.bend_axis_direction = self.axis_point, self.axis_direction
+        p.bend_symmetry, p.bend_threshold = self.use_symmetry, self.threshold
+        p.bend_symmetry_point, p.bend_symmetry_direction = self.symmetry_point, self.symmetry_direction
+        return {"FINISHED"}
+
+
+classes = (TAILOR_OT_bend,)

@@ -1,0 +1,35 @@
+"""The Bend panel."""
+
+import math
+
+import bpy
+
+from .. import scene_data
+from ..ui_common import TailorPanel
+
+
+class TAILOR_PT_bend(TailorPanel, bpy.types.Panel):
+    bl_idname = "TAILOR_PT_bend"
+    bl_label = "Bend"
+    bl_order = 2
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.active_object
+        if not scene_data.is_piece(obj):
+            layout.label(text="Select a garment piece", icon="INFO")
+            return
+        p = obj.tailor_piece
+        if p.bend_angle:
+            layout.label(
+                text=f"Bent by {math.degrees(p.bend_angle):.0f}°" + (" (symmetric)" if p.bend_symmetry else "")
+            )
+        else:
+            layout.label(text="Flat")
+        row = layout.row(align=True)
+        row.operator("tailor.bend", text="Bend…", icon="MOD_SIMPLEDEFORM")
+        flat = row.operator("tailor.bend", text="Flatten", icon="MESH_PLANE")
+        flat.angle = 0.0
+
+
+classes = (TAILOR_PT_bend,)

@@ -1,0 +1,47 @@
+"""Reading and writing the painted maps of an object (vertex groups and the level attribute)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.paint import BY_KEY, LEVEL_ATTR, WEIGHT_MAPS, values  # noqa: F401  (re-exported)
+
+
+def group_weights(obj, group: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """(weights, painted mask) of a vertex group over the object's vertices, or None."""
+    vg = obj.vertex_groups.get(group)
+    if vg is None:
+        return None
+    n = len(obj.data.vertices)
+    w = np.zeros(n, np.float32)
+    painted = np.zeros(n, bool)
+    gi = vg.index
+    for v in obj.data.vertices:
+        for g in v.groups:
+            if g.group == gi:
+                w[v.index], painted[v.index] = g.weight, True
+    return w, painted
+
+
+def collision_levels(obj) -> np.ndarray | None:
+    """(n,) int32 collision levels of a mesh object, or None when not painted."""
+    attr = obj.data.attributes.get(LEVEL_ATTR)
+    if attr is None or attr.domain != "POINT":
+        return None
+    out = np.empty(len(obj.data.vertices), np.int32)
+    attr.data.foreach_get("value", out)
+    return out
+
+
+def painted_maps(obj) -> dict:
+    """Everything painted on `obj`: {key: (parameter values, painted mask)} for the weight maps
+    and {"collision_level": (levels, all-true mask)}; unpainted maps are absent."""
+    out = {}
+    for m in WEIGHT_MAPS:
+        got = group_weights(obj, m.group)
+        if got is not None:
+            out[m.key] = (values(m.key, got[0]), got[1])
+    levels = collision_levels(obj)
+    if levels is not None:
+        out["collision_level"] = (levels, np.ones(len(levels), bool))
+    return out

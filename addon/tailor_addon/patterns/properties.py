@@ -1,0 +1,66 @@
+"""Per-piece data kept on the piece object (`Object.tailor_piece`); see docs/addon.md."""
+
+import bpy
+from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
+
+import tailor
+
+_DEFAULT = tailor.Fabric()
+
+
+class TailorPieceSettings(bpy.types.PropertyGroup):
+    is_piece: BoolProperty(name="Garment Piece", description="This mesh is a Tailor garment piece", default=False)
+    piece_name: StringProperty(name="Piece", description="Name of the piece in its pattern file")
+    garment: StringProperty(name="Garment", description="The garment this piece belongs to (its pattern's name)")
+    source_path: StringProperty(
+        name="Pattern File", description="The file the piece was imported from", subtype="FILE_PATH"
+    )
+    source_index: IntProperty(name="Index in File", description="Position of the piece in its pattern file", min=0)
+    piece_json: StringProperty(
+        name="Pattern Piece",
+        description="The pattern piece itself (outline, holes, lines, notches) as the module stores it; "
+        "the mesh is rebuilt from it",
+        options={"HIDDEN"},
+    )
+    edge_length: FloatProperty(
+        name="Resolution",
+        description="Target edge length the piece is triangulated at",
+        subtype="DISTANCE",
+        unit="LENGTH",
+        min=0.001,
+        default=0.02,
+        precision=4,
+    )
+    contour_length: FloatProperty(name="Contour Length", subtype="DISTANCE", unit="LENGTH")
+    # Fabric of this piece (the Simulate panel builds per-piece stiffness and mass from these).
+    density: FloatProperty(
+        name="Density", description="Mass per area, kg/m²", min=1e-4, default=_DEFAULT.density, precision=3
+    )
+    stretch: FloatProperty(
+        name="Stretch", description="Stretch stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.stretch
+    )
+    shear: FloatProperty(
+        name="Shear", description="Shear stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.shear
+    )
+    bend: FloatProperty(
+        name="Bend", description="Bending stiffness of the fabric, N·m", min=0.0, default=_DEFAULT.bend, precision=6
+    )
+    # The last bend applied (re-applied after a change of resolution; angle 0 = flat).
+    bend_angle: FloatProperty(name="Bend Angle", subtype="ANGLE", default=0.0)
+    bend_axis_point: FloatVectorProperty(name="Bend Axis Point", size=3, subtype="TRANSLATION")
+    bend_axis_direction: FloatVectorProperty(name="Bend Axis Direction", size=3, default=(0.0, 1.0, 0.0))
+    bend_symmetry: BoolProperty(name="Bend Symmetry", default=False)
+    bend_symmetry_point: FloatVectorProperty(name="Symmetry Point", size=2)
+    bend_symmetry_direction: FloatVectorProperty(name="Symmetry Direction", size=2, default=(0.0, 1.0))
+    bend_threshold: FloatProperty(name="Bend Threshold", subtype="DISTANCE", unit="LENGTH", min=0.0)
+
+
+classes = (TailorPieceSettings,)
+
+
+def register() -> None:
+    bpy.types.Object.tailor_piece = bpy.props.PointerProperty(type=TailorPieceSettings)
+
+
+def unregister() -> None:
+    del bpy.types.Object.tailor_piece

@@ -1,0 +1,88 @@
+"""The Bend operator against the module's `tailor.bend`."""
+
+import math
+
+import numpy as np
+import pytest
+
+import bpy
+
+from conftest import DATA, import_pattern
+
+SKIRT_SVG = DATA / "svg/skirt_two_panels.svg"
+
+
+def local_positions(obj):
+    co = np.empty(3 * len(obj.data.vertices), np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def test_bend_matches_the_module_and_recomputes_from_flat(scene, addon):
+    import tailor
+
+    objs = import_pattern(SKIRT_SVG, edge_length=0.05)
+    obj = objs[0]
+    bpy.context.view_layer.objects.active = obj
+    rest = addon.scene_data.rest_of(obj)
+    flat = np.c_[rest, np.zeros(len(rest), np.float32)]
+    c = (rest.min(axis=0) + rest.max(axis=0)) / 2
+    kw = dict(
+        axis_point=(c[0], c[1], -0.1),
+        axis_direction=(0, 1, 0),
+        use_symmetry=True,
+        symmetry_point=tuple(c),
+        symmetry_direction=(0, 1),
+        threshold=0.01,
+    )
+    assert bpy.ops.tailor.bend(angle=math.radians(90), **kw) == {"FINISHED"}
+    sym = (tuple(map(float, c)), (0.0, 1.0))
+    ref = tailor.bend(flat, rest, (float(c[0]), float(c[1]), -0.1), (0, 1, 0), 90.0, symmetry=sym, threshold=0.01)
+    np.testing.assert_allclose(local_positions(obj), ref, atol=1e-5)
+    assert obj.tailor_piece.bend_angle == pytest.approx(math.radians(90)) and obj.tailor_piece.bend_symmetry
+    # A second bend starts from flat again (the redo panel's behaviour), not from the bent shape.
+    bpy.ops.tailor.bend(angle=math.radians(45), **kw)
+    ref45 = tailor.bend(flat, rest, (float(c[0]), float(c[1]), -0.1), (0, 1, 0), 45.0, symmetry=sym, threshold=0.01)
+    np.testing.assert_allclose(local_positions(obj), ref45, atol=1e-5)
+    # The rest shape never changes; re-triangulating re-applies the bend to the new mesh.
+    np.testing.assert_array_equal(addon.scene_data.rest_of(obj), rest)
+    bpy.ops.tailor.set_resolution(edge_length=0.03)
+    rest2 = addon.scene_data.rest_of(obj)
+    ref2 = tailor.bend(
+        np.c_[rest2, np.zeros(len(rest2), np.float32)],
+        rest2,
+        (float(c[0]), float(c[1]), -0.1),
+        (0, 1, 0),
+        45.0,
+        symmetry=sym,
+        threshold=0.01,
+    )
+    np.testing.assert_allclose(local_positions(obj), ref2, atol=1e-5)
+    # Angle 0 flattens.
+    bpy.ops.tailor.bend(angle=0.0, **kw)
+    np.testing.assert_allclose(local_positions(obj)[:, 2], 0.0, atol=1e-7)
+    assert obj.tailor_piece.bend_angle == 0.0
+
+
+def test_bad_bend_is_reported_and_changes_nothing(scene, addon):
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    bpy.context.view_layer.objects.active = obj
+    before = local_positions(obj)
+    with pytest.raises(RuntimeError, match="Bending the piece failed: .*axis"):
+        bpy.ops.tailor.bend(angle=1.0, axis_direction=(0, 0, 0))
+    np.testing.assert_array_equal(local_positions(obj), before)
+    assert obj.tailor_piece.bend_angle == 0.0
+
+
+def test_rest_point_under_a_world_point_follows_the_bend(scene, addon):
+    """Picking tools map a hit on a placed, bent piece back to its rest frame."""
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    obj.location = (0.3, -0.2, 0.5)
+    obj.rotation_euler = (0.4, 0.0, 1.0)
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.tailor.bend(angle=math.radians(70))
+    bpy.context.view_layer.update()
+    rest = addon.scene_data.rest_of(obj)
+    world = addon.scene_data.vertex_positions(obj)
+    for i in (0, len(rest) // 3, len(rest) - 1):
+        assert addon.scene_data.rest_point(obj, world[i]) == pytest.approx(tuple(rest[i]), abs=1e-5)

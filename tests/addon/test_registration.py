@@ -1,0 +1,36 @@
+"""Every operator has a tooltip, undo, and a menu entry (F3 finds it); panels sit in the Tailor tab."""
+
+import bpy
+
+from conftest import MODULE
+
+
+def addon_classes(addon, base):
+    import inspect
+    import sys
+
+    out = []
+    for name, mod in list(sys.modules.items()):
+        if name.startswith(MODULE) and mod is not None:
+            out += [
+                c for _, c in inspect.getmembers(mod, inspect.isclass) if issubclass(c, base) and c.__module__ == name
+            ]
+    return set(out)
+
+
+def test_operators_have_tooltips_undo_and_a_menu_entry(addon):
+    ops = addon_classes(addon, bpy.types.Operator)
+    assert len(ops) >= 12
+    in_menu = {e[0] for e in addon.menu.OPERATORS if e}
+    for op in ops:
+        assert op.bl_description and len(op.bl_description) > 20, op
+        assert {"REGISTER", "UNDO"} <= set(op.bl_options), op
+        assert op.bl_idname in in_menu, op.bl_idname
+        assert hasattr(bpy.types, op.__name__), f"{op.__name__} is not registered"
+    assert addon.menu.menu_object in bpy.types.VIEW3D_MT_object._dyn_ui_initialize()
+
+
+def test_panels_in_the_tailor_tab_in_workflow_order(addon):
+    panels = sorted(addon_classes(addon, bpy.types.Panel), key=lambda p: p.bl_order)
+    assert [p.bl_label for p in panels][:4] == ["Patterns", "Seams", "Bend", "Paint"]
+    assert all(p.bl_category == "Tailor" and p.bl_space_type == "VIEW_3D" for p in panels)

@@ -15,11 +15,12 @@ exactly like a user's):
      (the n-vertex path follows the cursor), bn; then a second run cancelled with Esc;
   2. automatic suggestion: hover the front panel's side, click it, click the back's facing side;
   3. bend: place the axis on the front panel, drag 180 px (90 degrees), live preview, commit;
-     then a second drag cancelled with right click.
+     then a second drag cancelled with right click;
+  and Ctrl+Z / Ctrl+Shift+Z undo and redo the manual seam.
 
 After each step it checks the scene data against the module (seam count, pieces, contour
 positions, vertex counts, mode, bend angle and positions), and saves screenshots of the tools
-in use into `--out`. It writes `result.json` there and exits 0 only if every check passed.
+in use into `--out` (with 640-pixel-wide `*_small.png` copies for the docs). It writes `result.json` there and exits 0 only if every check passed.
 
 Events are only processed by Blender's main loop, so the script is a generator stepped by a
 timer: each `yield` returns control to the loop for that many seconds (events handled, the
@@ -102,10 +103,10 @@ def click(x, y, button="LEFTMOUSE"):
     win.event_simulate(type=button, value="RELEASE", x=x, y=y)
 
 
-def key(name):
+def key(name, **modifiers):
     win = view3d()[0]
-    win.event_simulate(type=name, value="PRESS")
-    win.event_simulate(type=name, value="RELEASE")
+    win.event_simulate(type=name, value="PRESS", **modifiers)
+    win.event_simulate(type=name, value="RELEASE", **modifiers)
 
 
 def screenshot(name: str):
@@ -115,6 +116,37 @@ def screenshot(name: str):
         bpy.ops.screen.screenshot_area(filepath=str(path))
     RESULT["screenshots"].append(str(path))
     check(f"screenshot {name}", path.is_file() and path.stat().st_size > 0, path)
+
+
+def oblique_view():
+    """Turns the 3D view to a perspective three-quarter view of the pieces; returns the old view."""
+    from mathutils import Euler
+
+    _, _, _, rv3d = view3d()
+    old = (rv3d.view_rotation.copy(), rv3d.view_perspective, rv3d.view_location.copy(), rv3d.view_distance)
+    rv3d.view_rotation = Euler((math.radians(62), 0.0, math.radians(-28)), "XYZ").to_quaternion()
+    rv3d.view_perspective = "PERSP"
+    rv3d.view_distance = old[3] * 0.8
+    view3d()[1].tag_redraw()
+    return old
+
+
+def restore_view(old) -> None:
+    _, area, _, rv3d = view3d()
+    rv3d.view_rotation, rv3d.view_perspective, rv3d.view_location, rv3d.view_distance = old
+    area.tag_redraw()
+
+
+def small_copies(width: int = 640) -> None:
+    """`<name>_small.png`: the screenshots scaled to `width` pixels, for the docs."""
+    for path in list(RESULT["screenshots"]):
+        img = bpy.data.images.load(path)
+        w, h = img.size
+        img.scale(width, round(h * width / w))
+        img.filepath_raw = path.replace(".png", "_small.png")
+        img.file_format = "PNG"
+        img.save()
+        bpy.data.images.remove(img)
 
 
 # ---- geometry helpers (the module's) -----------------------------------------------------
@@ -255,6 +287,22 @@ def scenario():
           and np.allclose(s.b_end, mb.contour_point(expected_b.positions[-1]), atol=1e-5)
           and s.b_direction == expected_b.direction.upper(), (tuple(s.b_start), tuple(s.b_end), s.b_direction))
     check("manual seam counts", (s.a_count, s.b_count, s.mode) == (n, n, "EQUAL"), (s.a_count, s.b_count, s.mode))
+    last = bpy.context.window_manager.operators[-1]
+    check("redo panel is the tool's, with Add Seam's properties",
+          last.bl_idname == "TAILOR_OT_seam_pick" and (last.properties.a_start, last.properties.a_end) == (a1, an)
+          and last.properties.b_start == b1, (last.bl_idname, last.properties.a_start, last.properties.a_end))
+    stored = (tuple(s.a_start), tuple(s.a_end), tuple(s.b_start), tuple(s.b_end))
+    key("Z", ctrl=True)
+    yield 0.3
+    scene = bpy.context.scene  # undo reloads the file's data: fetch it again
+    check("Ctrl+Z undoes the seam", len(scene.tailor.seams) == 0, len(scene.tailor.seams))
+    key("Z", ctrl=True, shift=True)
+    yield 0.3
+    scene = bpy.context.scene
+    front, back = bpy.data.objects["skirt front"], bpy.data.objects["skirt back"]
+    s = scene.tailor.seams[0] if len(scene.tailor.seams) == 1 else None
+    check("Ctrl+Shift+Z redoes it", s is not None and s.piece_a == front and
+          (tuple(s.a_start), tuple(s.a_end), tuple(s.b_start), tuple(s.b_end)) == stored)
 
     # Esc cancels a second manual seam half-way: nothing changes.
     invoke("seam_pick")
@@ -318,7 +366,11 @@ def scenario():
     yield 0.4
     live = addon_module().scene_data.vertex_positions(front, world=False)
     check("live preview bends the mesh", np.abs(live[:, 2]).max() > 0.05, np.abs(live[:, 2]).max())
+    top = oblique_view()  # the angle drag reads only the mouse's x: the view may turn meanwhile
+    yield 0.4
     screenshot("bend_preview")
+    restore_view(top)
+    yield PAUSE
     click(cx + 180, cy)
     yield 0.3
     p = front.tailor_piece
@@ -344,7 +396,10 @@ def scenario():
     after = addon_module().scene_data.vertex_positions(front, world=False)
     check("right click cancels the bend", np.allclose(after, bent, atol=1e-7) and
           abs(math.degrees(p.bend_angle) - 90.0) < 1e-3)
+    oblique_view()
+    yield 0.4
     screenshot("seams_and_bend")
+    small_copies()
     RESULT["ok"] = True
 
 

@@ -13,7 +13,8 @@ exactly like a user's):
 
   1. manual seam: a1, a wrong an undone with Backspace, an, b1, a hover on each side of b1
      (the n-vertex path follows the cursor), bn; then a second run cancelled with Esc;
-  2. automatic suggestion: hover the front panel's side, click it, click the back's facing side;
+  2. automatic suggestion: re-triangulate the back finer, start and cancel with right click,
+     then hover the front panel's side, click it, click the back's facing side (unequal seam);
   3. bend: place the axis on the front panel, drag 180 px (90 degrees), live preview, commit;
      then a second drag cancelled with right click;
   and Ctrl+Z / Ctrl+Shift+Z undo and redo the manual seam.
@@ -315,7 +316,25 @@ def scenario():
     yield PAUSE
     check("Esc cancels", len(scene.tailor.seams) == 1, len(scene.tailor.seams))
 
-    # 2. Automatic suggestion: the facing sides (front's right, back's left).
+    # 2. Automatic suggestion: the facing sides (front's right, back's left), after the back is
+    # re-triangulated finer, so the counts differ and the seam is sewn unequal.
+    for obj in bpy.data.objects:
+        obj.select_set(obj == back)
+    bpy.context.view_layer.objects.active = back
+    with override():
+        assert bpy.ops.tailor.set_resolution(edge_length=0.03) == {"FINISHED"}
+    back.select_set(False)
+    mb = mesh(back)
+    cb = list(mb.corners)
+    b_left = min(runs(cb), key=lambda r: side_x(back, mb, r))
+    # Right click cancels the tool half-way.
+    invoke("seam_suggest")
+    yield PAUSE
+    click(*to_window(run_middle(front, *f_right)))
+    yield PAUSE
+    click(*to_window(run_middle(front, *f_right)), button="RIGHTMOUSE")
+    yield PAUSE
+    check("right click cancels", len(scene.tailor.seams) == 1, len(scene.tailor.seams))
     invoke("seam_suggest")
     yield PAUSE
     move(*to_window(run_middle(front, *f_right)))
@@ -338,9 +357,9 @@ def scenario():
     ends = sorted(b_left, key=lambda p: (contour_world(back, p) - contour_world(front, f_right[0])).length)
     check("suggested side B", s.piece_b == back and np.allclose(s.b_start, mb.contour_point(ends[0]), atol=1e-5)
           and np.allclose(s.b_end, mb.contour_point(ends[1]), atol=1e-5), (tuple(s.b_start), tuple(s.b_end)))
-    mode = "EQUAL" if s.a_count == s.b_count else "UNEQUAL"
-    check("suggested seam counts and mode", s.a_count == len(a_run.positions) and s.mode == mode,
-          (s.a_count, s.b_count, s.mode))
+    b_run = (b_left[1] - b_left[0]) % len(mb.contour) + 1
+    check("suggested seam counts and mode", (s.a_count, s.b_count, s.mode) == (len(a_run.positions), b_run, "UNEQUAL")
+          and s.a_count != s.b_count, (s.a_count, s.b_count, s.mode))
     garment = addon_module().scene_data.build_garment(scene)
     check("seams resolve for the solver", len(garment.seams) == 2)
 

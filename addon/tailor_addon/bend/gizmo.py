@@ -20,7 +20,7 @@ from ..core.bend_tool import BendTool
 from ..core.errors import is_reportable
 from ..reporting import report
 from ..seams import viewport
-from ..seams.modal_base import NAVIGATION
+from ..seams.modal_base import CLICK, NAVIGATION
 from .operators import BendProperties, bend_positions, flat_positions, write_positions
 
 
@@ -138,7 +138,7 @@ class TAILOR_OT_bend_interactive(BendProperties, bpy.types.Operator):
         elif event.value == "PRESS" and event.type == "BACK_SPACE":
             if tool.back():
                 write_positions(bpy.data.objects[self.obj_name], self.flat)
-        elif event.value == "PRESS" and event.type in {"LEFTMOUSE", "RET", "NUMPAD_ENTER"}:
+        elif event.value in CLICK and event.type in {"LEFTMOUSE", "RET", "NUMPAD_ENTER"}:
             if tool.stage == "axis":
                 tool.fix_axis(viewport.region_mouse(self.view, event)[0])
             else:

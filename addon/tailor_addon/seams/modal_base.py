@@ -34,6 +34,9 @@ NAVIGATION = {
     *(f"NUMPAD_{k}" for k in ("0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "PERIOD", "PLUS", "MINUS")),
 }
 
+# A quick second click arrives as DOUBLE_CLICK instead of PRESS; it is a pick all the same.
+CLICK = {"PRESS", "DOUBLE_CLICK"}
+
 
 class ContourToolModal:
     """Mixin (before `SeamAddProperties`) for a modal seam tool; subclasses define
@@ -115,7 +118,7 @@ class ContourToolModal:
         elif event.type == "BACK_SPACE" and event.value == "PRESS":
             self.message = "" if self.tool.undo() else "nothing to undo"
             self._hover(context, event)
-        elif event.type == "LEFTMOUSE" and event.value == "PRESS":
+        elif event.type == "LEFTMOUSE" and event.value in CLICK:
             self._hover(context, event)
             piece, point = self.hovered
             result = self.tool.click(piece, point)

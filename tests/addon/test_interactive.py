@@ -87,7 +87,8 @@ def test_manual_tool_picks_by_ray_sew_through_the_exec_path(scene, addon):
     batches = vp.highlight_batches(highlight)
     lines = [co for kind, role, co in batches if kind == "LINES" and role == "preview"]
     expected = tailor.nearer_candidate(mb, b1, len(tool.path_a.positions), tuple(point))
-    ends = world(back, np.c_[np.asarray(mb.rest)[np.asarray(mb.contour)[expected.positions]], np.zeros(len(expected.positions))])
+    run = np.asarray(mb.rest)[np.asarray(mb.contour)[expected.positions]]
+    ends = world(back, np.c_[run, np.zeros(len(run))])
     np.testing.assert_allclose(lines[0][0], ends[0], atol=1e-5)
     np.testing.assert_allclose(lines[0][-1], ends[-1], atol=1e-5)
     request = tool.click(piece, point).request

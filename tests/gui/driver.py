@@ -21,7 +21,8 @@ exactly like a user's):
 
 After each step it checks the scene data against the module (seam count, pieces, contour
 positions, vertex counts, mode, bend angle and positions), and saves screenshots of the tools
-in use into `--out` (with 640-pixel-wide `*_small.png` copies for the docs). It writes `result.json` there and exits 0 only if every check passed.
+in use into `--out` (with 560-pixel-wide `*_small.png` copies for the docs). It writes
+`result.json` there and exits 0 only if every check passed.
 
 Events are only processed by Blender's main loop, so the script is a generator stepped by a
 timer: each `yield` returns control to the loop for that many seconds (events handled, the
@@ -138,7 +139,7 @@ def restore_view(old) -> None:
     area.tag_redraw()
 
 
-def small_copies(width: int = 640) -> None:
+def small_copies(width: int = 560) -> None:
     """`<name>_small.png`: the screenshots scaled to `width` pixels, for the docs."""
     for path in list(RESULT["screenshots"]):
         img = bpy.data.images.load(path)

@@ -1,13 +1,13 @@
 """Bend in the viewport: place the bend axis on the active piece, drag the angle with a live
-preview, commit through the exec-path operator `tailor.bend` (whose redo panel then adjusts it).
+preview, commit through the Bend operator's exec path (whose redo panel then adjusts it).
 
 The stages and what each key does are `core.bend_tool.BendTool` (bpy-free). While the tool
 runs the piece's mesh shows the preview (flat while the axis is placed, bent while dragging),
 computed by the Bend operator's own `bend_positions` (`tailor.bend`); Esc or right click puts
-the mesh back exactly as it was. The tool shares the Bend operator's properties and exec path (`BendProperties`): on commit it puts
-the mesh back, sets the Bend properties to the placed axis and dragged angle and runs Bend's
-`execute` (the exec path itself), so the finished tool is one undo step whose redo panel is
-Bend's (axis, angle, symmetry, threshold), recomputed from flat by that same `execute`.
+the mesh back exactly as it was. The tool shares the Bend operator's properties and exec path
+(`BendProperties`): on commit it puts the mesh back, sets those properties to the placed axis
+and dragged angle and runs that `execute`, so the finished tool is one undo step whose redo
+panel is Bend's (axis, angle, symmetry, threshold), recomputed from flat by the same `execute`.
 """
 
 from __future__ import annotations
@@ -93,7 +93,8 @@ class TAILOR_OT_bend_interactive(BendProperties, bpy.types.Operator):
         else:
             self.tool.drag(mouse[0])
             p = self.tool.params()
-            write_positions(obj, bend_positions(obj, p.axis_point, p.axis_direction, p.angle, p.symmetry(), p.threshold))
+            co = bend_positions(obj, p.axis_point, p.axis_direction, p.angle, p.symmetry(), p.threshold)
+            write_positions(obj, co)
         viewport.set_header(context, self.view, self.tool.prompt())
         self.view[0].tag_redraw()
 

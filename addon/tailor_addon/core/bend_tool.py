@@ -118,7 +118,8 @@ class BendTool:
     def axis_segment(self, rest_min, rest_max) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
         """The axis drawn across the piece's rest bounding box (piece frame), for the viewport."""
         p = self.params()
-        lo, hi = (float(rest_min[1]), float(rest_max[1])) if self.axis == "Y" else (float(rest_min[0]), float(rest_max[0]))
+        k = 1 if self.axis == "Y" else 0
+        lo, hi = float(rest_min[k]), float(rest_max[k])
         pad = 0.1 * (hi - lo)
         if self.axis == "Y":
             return (p.axis_point[0], lo - pad, p.axis_point[2]), (p.axis_point[0], hi + pad, p.axis_point[2])

@@ -43,7 +43,7 @@ def hit_to_rest(local_point, co: np.ndarray, triangles: np.ndarray, rest: np.nda
     return (w[:, None] * np.asarray(rest, np.float64)[t]).sum(axis=0)
 
 
-def project_points(points: np.ndarray, perspective: np.ndarray, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+def project_points(points, perspective, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
     """Region pixel coordinates (n, 2) of world points (n, 3) under a view's 4x4 perspective
     matrix (`RegionView3D.perspective_matrix`), and a mask of the points in front of the
     view (the same maths as `view3d_utils.location_3d_to_region_2d`)."""

@@ -275,7 +275,8 @@ class SuggestSeamTool:
         else:
             b_start, b_end, b_dir = positions[-1], positions[0], "CW"
         mode = "EQUAL" if len(positions) == len(run_a) else "UNEQUAL"
-        return ClickResult(True, request=SeamRequest(pa, run_a[0], run_a[-1], "CCW", piece, b_start, b_end, b_dir, mode))
+        request = SeamRequest(pa, run_a[0], run_a[-1], "CCW", piece, b_start, b_end, b_dir, mode)
+        return ClickResult(True, request=request)
 
     def undo(self) -> bool:
         if self.side_a is None:

@@ -3,12 +3,11 @@
 A tool (`core.seam_tools.ManualSeamTool` or `SuggestSeamTool`) holds the picks and says what a
 hover shows and what a click does; this loop feeds it the piece and rest point under the mouse
 (`viewport.pick`), draws its highlight, shows its prompt in the 3D view's header and the status
-bar, and when a click completes a seam calls the exec-path operator `tailor.seam_add` with the
-picked contour positions. The tools share Add Seam's properties and exec path
-(`SeamAddProperties`): they end by setting those properties to the picks and running its `execute` (the exec path itself, so the same checks
-and errors), which makes the finished tool one undo step whose redo panel is Add Seam's (a
-nested `bpy.ops` call inside an undoable modal operator would be neither registered nor
-undoable on its own).
+bar, and when a click completes a seam sews it through Add Seam's exec path: the tools share
+`tailor.seam_add`'s properties and `execute` (`SeamAddProperties`), set those properties to the
+picked contour positions and run that `execute` (the same checks and errors). The finished tool
+is one undo step whose redo panel is Add Seam's; a nested `bpy.ops.tailor.seam_add` call would
+not do, as Blender neither registers nor pushes an operator called inside an undoable modal one.
 
 Keys: left click picks, Backspace undoes the last pick, Esc or right click cancels (nothing is
 changed); navigation (middle mouse, wheel, numpad, trackpad) passes through to the view.

@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon addon bench setup develop clean samples-character
+.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -26,13 +26,19 @@ test-rust:
 	cargo test -p tailor-core --release --features gpu --lib gpu::
 
 test-python: develop
-	$(PY) -m pytest -q tests --ignore=tests/addon
+	$(PY) -m pytest -q tests --ignore=tests/addon --ignore=tests/gui
 	$(MAKE) test-addon
+	$(MAKE) test-gui
 
 ## The Blender add-on's tests: install the built zip into a throw-away Blender user directory
 ## (bpy wheel, headless) in a process of its own, so it uses the wheel bundled in the zip.
 test-addon: addon
 	$(PY) -m pytest -q --confcutdir=tests/addon tests/addon
+
+## The interactive tools in a real Blender window: Debian's blender under xvfb-run with simulated
+## mouse events (tests/gui/driver.py); screenshots go to out/gui/. Skipped without blender/xvfb-run.
+test-gui: addon
+	$(PY) -m pytest -q tests/gui
 
 ## The installable Blender extension: dist/tailor_addon.zip with the tailor wheel bundled.
 addon: $(ADDON_ZIP)

@@ -53,14 +53,9 @@ def write_positions(obj, co: np.ndarray) -> None:
     obj.data.update()
 
 
-class TAILOR_OT_bend(bpy.types.Operator):
-    bl_idname = "tailor.bend"
-    bl_label = "Bend Piece"
-    bl_description = (
-        "Bend the active flat piece around an axis (in the piece's own frame) so it wraps around a limb; "
-        "angle 0 flattens it"
-    )
-    bl_options = {"REGISTER", "UNDO"}
+class BendProperties:
+    """The Bend operator's properties and exec path; the interactive tool (`gizmo.py`) shares
+    them, so its redo panel is this one and its commit is this `execute`."""
 
     axis_point: FloatVectorProperty(
         name="Axis Point",
@@ -110,6 +105,33 @@ class TAILOR_OT_bend(bpy.types.Operator):
         min=0.0,
     )
 
+    @reports_errors("Bending the piece")
+    def execute(self, context):
+        obj = context.active_object
+        if not scene_data.is_piece(obj):
+            raise AddonError("the active object is not a garment piece", "Select an imported piece")
+        if obj.mode != "OBJECT":
+            raise AddonError("the piece is in edit mode", "Switch to Object Mode to bend it")
+        symmetry = (tuple(self.symmetry_point), tuple(self.symmetry_direction)) if self.use_symmetry else None
+        co = bend_positions(obj, self.axis_point, self.axis_direction, self.angle, symmetry, self.threshold)
+        write_positions(obj, co)
+        p = obj.tailor_piece
+        p.bend_angle = self.angle
+        p.bend_axis_point, p.bend_axis_direction = self.axis_point, self.axis_direction
+        p.bend_symmetry, p.bend_threshold = self.use_symmetry, self.threshold
+        p.bend_symmetry_point, p.bend_symmetry_direction = self.symmetry_point, self.symmetry_direction
+        return {"FINISHED"}
+
+
+class TAILOR_OT_bend(BendProperties, bpy.types.Operator):
+    bl_idname = "tailor.bend"
+    bl_label = "Bend Piece"
+    bl_description = (
+        "Bend the active flat piece around an axis (in the piece's own frame) so it wraps around a limb; "
+        "angle 0 flattens it"
+    )
+    bl_options = {"REGISTER", "UNDO"}
+
     @classmethod
     def poll(cls, context):
         return scene_data.is_piece(context.active_object)
@@ -135,23 +157,6 @@ class TAILOR_OT_bend(bpy.types.Operator):
             if not self.properties.is_property_set(name):
                 setattr(self, name, value)
         return self.execute(context)
-
-    @reports_errors("Bending the piece")
-    def execute(self, context):
-        obj = context.active_object
-        if not scene_data.is_piece(obj):
-            raise AddonError("the active object is not a garment piece", "Select an imported piece")
-        if obj.mode != "OBJECT":
-            raise AddonError("the piece is in edit mode", "Switch to Object Mode to bend it")
-        symmetry = (tuple(self.symmetry_point), tuple(self.symmetry_direction)) if self.use_symmetry else None
-        co = bend_positions(obj, self.axis_point, self.axis_direction, self.angle, symmetry, self.threshold)
-        write_positions(obj, co)
-        p = obj.tailor_piece
-        p.bend_angle = self.angle
-        p.bend_axis_point, p.bend_axis_direction = self.axis_point, self.axis_direction
-        p.bend_symmetry, p.bend_threshold = self.use_symmetry, self.threshold
-        p.bend_symmetry_point, p.bend_symmetry_direction = self.symmetry_point, self.symmetry_direction
-        return {"FINISHED"}
 
 
 classes = (TAILOR_OT_bend,)

@@ -77,14 +77,10 @@ def seam_at(scene, index: int):
     return i, seams[i]
 
 
-class TAILOR_OT_seam_add(bpy.types.Operator):
-    bl_idname = "tailor.seam_add"
-    bl_label = "Add Seam"
-    bl_description = (
-        "Sew two contour runs together: side A from a1 to an on one piece, side B from b1 on the same "
-        "or another piece (contour positions)"
-    )
-    bl_options = {"REGISTER", "UNDO"}
+class SeamAddProperties:
+    """Add Seam's properties and exec path; the interactive tools (`modal_pick.py`,
+    `modal_suggest.py`) share them, so their redo panel is this one and their commit is this
+    `execute`."""
 
     name: StringProperty(name="Name", default="Seam")
     piece_a: StringProperty(name="Piece A", description="Name of side A's piece object")
@@ -187,6 +183,16 @@ class TAILOR_OT_seam_add_segments(bpy.types.Operator):
         add_seam_item(scene, seam, objects, r)
         self.report({"INFO"}, f"Seam '{name}': {len(path_a)} + {len(path_b)} vertices, {mode}")
         return {"FINISHED"}
+
+
+class TAILOR_OT_seam_add(SeamAddProperties, bpy.types.Operator):
+    bl_idname = "tailor.seam_add"
+    bl_label = "Add Seam"
+    bl_description = (
+        "Sew two contour runs together: side A from a1 to an on one piece, side B from b1 on the same "
+        "or another piece (contour positions)"
+    )
+    bl_options = {"REGISTER", "UNDO"}
 
 
 class TAILOR_OT_seam_remove(bpy.types.Operator):

@@ -169,6 +169,13 @@ impl Solver {
         r
     }
 
+    /// The positions of a mesh collider at the end of the next step (the per-frame input of
+    /// an animated character): on the GPU only these go up, once per frame, with no
+    /// re-upload of the model (unlike [`Solver::edit`]).
+    pub fn set_collider_positions(&mut self, id: super::collide::ColliderId, positions: &[[f32; 3]]) -> Result<()> {
+        self.sim.set_collider_positions(id, positions)
+    }
+
     /// Gives the simulation back (with current velocities).
     pub fn into_simulation(mut self) -> Simulation {
         self.sync_from_gpu();

@@ -1165,11 +1165,27 @@ impl GpuSolver {
         Ok(())
     }
 
-    /// Runs one frame's worth of dispatches (as many as `step` records for these counts) of
-    /// one workgroup each and returns its wall time: the fixed cost of a frame, for benchmarks.
+    /// Dispatches one frame of `substeps` × `iterations` records for the uploaded scene (the
+    /// collider hash counted as built every substep, i.e. a moving collider).
+    pub fn dispatches_per_frame(&self, substeps: u32, iterations: u32) -> usize {
+        let Some(u) = &self.uploaded else { return 0 };
+        let per_iteration = (u.n_colliders > 0 || u.n_meshes > 0) as usize
+            + 1
+            + (u.n_curved > 0) as usize
+            + u.colours.len()
+            + 1
+            + (u.method == Method::Chebyshev) as usize
+            + if u.self_enabled { 6 } else { 0 };
+        let per_substep = 1 + if u.n_meshes > 0 { 5 + 1 } else { 0 } + iterations as usize * per_iteration + 2;
+        substeps as usize * per_substep
+    }
+
+    /// Runs one frame's worth of dispatches ([`GpuSolver::dispatches_per_frame`]) of one
+    /// workgroup each and returns its wall time: the fixed cost of a frame, for benchmarks.
     /// It scribbles on the GPU state, so the next step uploads again from the simulation
     /// (call [`GpuSolver::sync_velocities`] first to keep the velocities).
-    pub fn dispatch_overhead(&mut self, substeps: u32, iterations: u32, colours: usize) -> Result<f64, GpuFailure> {
+    pub fn dispatch_overhead(&mut self, substeps: u32, iterations: u32) -> Result<f64, GpuFailure> {
+        let count = self.dispatches_per_frame(substeps, iterations);
         let (Some(_), Some(g)) = (&self.buffers, &self.binds) else {
             return Err(GpuFailure::Device("nothing uploaded".into()));
         };
@@ -1182,8 +1198,7 @@ impl GpuSolver {
             // uniform, a single workgroup per dispatch measures launch cost only.
             pass.set_pipeline(&pl.extrapolate);
             pass.set_bind_group(0, &g.extrapolate, &[]);
-            let per_substep = 2 + iterations as usize * (3 + colours) + 2;
-            for _ in 0..substeps as usize * per_substep {
+            for _ in 0..count {
                 pass.dispatch_workgroups(1, 1, 1);
             }
         }

@@ -7,6 +7,7 @@
 //!   --collisions     a cloth dropped on an animated sphere mesh (5120 triangles, moving every
 //!                    frame, so its hash is rebuilt every substep) with self-collision on;
 //!                    default: a cloth hanging from its top edge, no collisions
+//!   --no-self        with --collisions: self-collision off (splits the two costs)
 //!   --budget S       seconds of timed frames per measurement (default 3; at least 1 frame)
 //!   --cpu-only / --gpu-only
 //! ```
@@ -28,17 +29,20 @@ const SPHERE_R: f32 = 0.3;
 struct Options {
     sizes: Vec<usize>,
     collisions: bool,
+    self_collision: bool,
     budget: f64,
     cpu: bool,
     gpu: bool,
 }
 
 fn options() -> Options {
-    let mut o = Options { sizes: Vec::new(), collisions: false, budget: 3.0, cpu: true, gpu: true };
+    let mut o =
+        Options { sizes: Vec::new(), collisions: false, self_collision: true, budget: 3.0, cpu: true, gpu: true };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--collisions" => o.collisions = true,
+            "--no-self" => o.self_collision = false,
             "--cpu-only" => o.gpu = false,
             "--gpu-only" => o.cpu = false,
             "--budget" => o.budget = args.next().and_then(|s| s.parse().ok()).expect("--budget SECONDS"),
@@ -53,7 +57,7 @@ fn options() -> Options {
 
 /// A 1 m square cloth of about `n` particles: hanging from its top edge, or (with
 /// collisions) lying just above an icosphere body with self-collision on.
-fn scene(n: usize, collisions: bool) -> Simulation {
+fn scene(n: usize, collisions: bool, self_collision: bool) -> Simulation {
     let side = ((n as f64).sqrt().round() as usize).max(2) - 1;
     let (rest, tris) = rectangle(1.0, 1.0, side, side);
     let pos: Vec<[f32; 3]> = if collisions {
@@ -66,7 +70,8 @@ fn scene(n: usize, collisions: bool) -> Simulation {
     if collisions {
         let (v, t) = icosphere(4, SPHERE_R);
         sim.add_mesh_collider(&v, &t, MeshColliderOptions::default()).expect("a valid sphere");
-        sim.set_self_collision(SelfCollisionSettings { enabled: true, ..Default::default() }).expect("valid");
+        let s = SelfCollisionSettings { enabled: self_collision, ..Default::default() };
+        sim.set_self_collision(s).expect("valid");
     } else {
         let top: Vec<u32> = (0..=side).map(|i| (side * (side + 1) + i) as u32).collect();
         sim.pin(&top, None).expect("valid pins");
@@ -125,8 +130,10 @@ fn main() {
     let s = SolverSettings::default();
     println!(
         "scene: {}; {} substeps × {} iterations per frame (dt = 1/30 s); rayon threads {}; load average {}",
-        if o.collisions {
+        if o.collisions && o.self_collision {
             "cloth on an animated 5120-triangle sphere mesh, self-collision on"
+        } else if o.collisions {
+            "cloth on an animated 5120-triangle sphere mesh, self-collision off"
         } else {
             "hanging cloth, no collisions"
         },
@@ -141,13 +148,13 @@ fn main() {
     );
     println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for &n in &o.sizes {
-        let mut probe = scene(n, o.collisions);
+        let mut probe = scene(n, o.collisions, o.self_collision);
         let n = probe.num_particles();
         let colours = probe.colour_count();
         let work = (n as f64) * s.substeps as f64 * s.iterations as f64;
         let mut cpu_t = f64::NAN;
         if o.cpu {
-            let mut cpu = scene(n, o.collisions);
+            let mut cpu = scene(n, o.collisions, o.self_collision);
             cpu_t = time_frames(o.budget, |f| {
                 animate(&mut cpu, f);
                 cpu.step(DT).expect("a stable CPU step");
@@ -155,7 +162,7 @@ fn main() {
         }
         let (mut gpu_t, mut empty, mut dispatches) = (f64::NAN, f64::NAN, 0);
         if let Some(g) = &mut gpu {
-            let mut sim = scene(n, o.collisions);
+            let mut sim = scene(n, o.collisions, o.self_collision);
             let mut ok = true;
             let t = time_frames(o.budget, |f| {
                 if ok {

@@ -1,83 +1,172 @@
-//! CPU vs GPU frame time on a hanging cloth at about 1k, 10k and 100k particles, plus the
-//! fixed cost of a frame's dispatches.
+//! CPU vs GPU frame time against particle count, with or without collisions, plus the fixed
+//! cost of a frame's dispatches. Prints a Markdown table (paste it into `docs/benchmarks.md`).
 //!
-//! `cargo run --release -p tailor-core --features gpu --example gpu_bench [sizes…]`
-//! (sizes are particle counts, default `1000 10000 100000`). Records belong in `docs/gpu.md`.
+//! ```text
+//! cargo run --release -p tailor-core --features gpu --example gpu_bench -- [options] [sizes…]
+//!   sizes            particle counts (default 1000 10000 100000 1000000)
+//!   --collisions     a cloth dropped on an animated sphere mesh (5120 triangles, moving every
+//!                    frame, so its hash is rebuilt every substep) with self-collision on;
+//!                    default: a cloth hanging from its top edge, no collisions
+//!   --no-self        with --collisions: self-collision off (splits the two costs)
+//!   --budget S       seconds of timed frames per measurement (default 3; at least 1 frame)
+//!   --cpu-only / --gpu-only
+//! ```
+//!
+//! `ns/p·it` is frame time over particles × substeps × iterations. "empty frame" runs as many
+//! one-workgroup dispatches as a frame of that scene records (`GpuSolver::dispatches_per_frame`)
+//! with nothing to do: the fixed cost of a frame on that adapter, reported separately.
 
 use std::time::Instant;
 
 use tailor_core::gpu::{GpuOptions, GpuSolver};
 use tailor_core::mesh::ClothMesh;
-use tailor_core::scenes::rectangle;
-use tailor_core::solver::{Fabric, Simulation, SolverSettings};
+use tailor_core::scenes::{icosphere, rectangle};
+use tailor_core::solver::{ColliderId, Fabric, MeshColliderOptions, SelfCollisionSettings, Simulation, SolverSettings};
 
 const DT: f32 = 1.0 / 30.0;
+const SPHERE_R: f32 = 0.3;
 
-/// A square cloth of about `n` particles hanging from its top edge (1 m wide).
-fn cloth(n: usize) -> Simulation {
+struct Options {
+    sizes: Vec<usize>,
+    collisions: bool,
+    self_collision: bool,
+    budget: f64,
+    cpu: bool,
+    gpu: bool,
+}
+
+fn options() -> Options {
+    let mut o =
+        Options { sizes: Vec::new(), collisions: false, self_collision: true, budget: 3.0, cpu: true, gpu: true };
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--collisions" => o.collisions = true,
+            "--no-self" => o.self_collision = false,
+            "--cpu-only" => o.gpu = false,
+            "--gpu-only" => o.cpu = false,
+            "--budget" => o.budget = args.next().and_then(|s| s.parse().ok()).expect("--budget SECONDS"),
+            n => o.sizes.push(n.parse().unwrap_or_else(|_| panic!("unknown argument {n}"))),
+        }
+    }
+    if o.sizes.is_empty() {
+        o.sizes = vec![1_000, 10_000, 100_000, 1_000_000];
+    }
+    o
+}
+
+/// A 1 m square cloth of about `n` particles: hanging from its top edge, or (with
+/// collisions) lying just above an icosphere body with self-collision on.
+fn scene(n: usize, collisions: bool, self_collision: bool) -> Simulation {
     let side = ((n as f64).sqrt().round() as usize).max(2) - 1;
     let (rest, tris) = rectangle(1.0, 1.0, side, side);
-    let pos: Vec<[f32; 3]> = rest.iter().map(|r| [r[0], 0.0, r[1]]).collect();
+    let pos: Vec<[f32; 3]> = if collisions {
+        rest.iter().map(|r| [r[0] - 0.5, r[1] - 0.5, SPHERE_R + 0.01]).collect()
+    } else {
+        rest.iter().map(|r| [r[0], 0.0, r[1]]).collect()
+    };
     let mesh = ClothMesh::new(pos, rest, tris).expect("a valid rectangle");
     let mut sim = Simulation::new(mesh, Fabric::default(), SolverSettings::default()).expect("valid settings");
-    let top: Vec<u32> = (0..=side).map(|i| (side * (side + 1) + i) as u32).collect();
-    sim.pin(&top, None).expect("valid pins");
+    if collisions {
+        let (v, t) = icosphere(4, SPHERE_R);
+        sim.add_mesh_collider(&v, &t, MeshColliderOptions::default()).expect("a valid sphere");
+        let s = SelfCollisionSettings { enabled: self_collision, ..Default::default() };
+        sim.set_self_collision(s).expect("valid");
+    } else {
+        let top: Vec<u32> = (0..=side).map(|i| (side * (side + 1) + i) as u32).collect();
+        sim.pin(&top, None).expect("valid pins");
+    }
     sim
 }
 
-/// Mean seconds per frame over at least one frame and about `budget` seconds.
-fn time_frames(budget: f64, mut frame: impl FnMut()) -> (f64, usize) {
-    frame(); // warm-up: rebuilds, uploads, pipeline caches
+/// The body bobs by ±5 mm so that its hash is rebuilt every substep, as for an animated
+/// character.
+fn animate(sim: &mut Simulation, frame: usize) {
+    if sim.num_mesh_colliders() == 0 {
+        return;
+    }
+    let (v, _) = icosphere(4, SPHERE_R);
+    let dz = 0.005 * (frame as f32 * 0.7).sin();
+    let moved: Vec<[f32; 3]> = v.iter().map(|p| [p[0], p[1], p[2] + dz]).collect();
+    sim.set_collider_positions(ColliderId(0), &moved).expect("same vertex count");
+}
+
+/// Mean seconds per frame over at least one frame and about `budget` seconds, after one
+/// warm-up frame (rebuilds, uploads, pipeline caches).
+fn time_frames(budget: f64, mut frame: impl FnMut(usize)) -> f64 {
+    frame(0);
     let t0 = Instant::now();
     let mut frames = 0;
     while frames == 0 || (t0.elapsed().as_secs_f64() < budget && frames < 30) {
-        frame();
+        frame(frames + 1);
         frames += 1;
     }
-    (t0.elapsed().as_secs_f64() / frames as f64, frames)
+    t0.elapsed().as_secs_f64() / frames as f64
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "?".into())
 }
 
 fn main() {
-    let sizes: Vec<usize> = {
-        let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
-        if args.is_empty() {
-            vec![1_000, 10_000, 100_000]
-        } else {
-            args
+    let o = options();
+    let mut gpu = if o.gpu {
+        match GpuSolver::new(GpuOptions::default()) {
+            Ok(g) => Some(g),
+            Err(e) => {
+                println!("no GPU: {e}");
+                None
+            }
         }
-    };
-    let mut gpu = match GpuSolver::new(GpuOptions::default()) {
-        Ok(g) => Some(g),
-        Err(e) => {
-            println!("no GPU: {e}");
-            None
-        }
+    } else {
+        None
     };
     if let Some(g) = &gpu {
         let i = g.adapter_info();
         println!("adapter: {} ({:?}, {:?}, driver {} {})", i.name, i.backend, i.device_type, i.driver, i.driver_info);
     }
-    println!("rayon threads: {}", rayon::current_num_threads());
     let s = SolverSettings::default();
-    println!("settings: {} substeps × {} iterations per frame (dt = 1/30 s)", s.substeps, s.iterations);
     println!(
-        "{:>8} {:>7} {:>12} {:>12} {:>12} {:>12} {:>14}",
-        "n", "colours", "cpu ms/frame", "cpu ns/p·it", "gpu ms/frame", "gpu ns/p·it", "gpu empty ms"
+        "scene: {}; {} substeps × {} iterations per frame (dt = 1/30 s); rayon threads {}; load average {}",
+        if o.collisions && o.self_collision {
+            "cloth on an animated 5120-triangle sphere mesh, self-collision on"
+        } else if o.collisions {
+            "cloth on an animated 5120-triangle sphere mesh, self-collision off"
+        } else {
+            "hanging cloth, no collisions"
+        },
+        s.substeps,
+        s.iterations,
+        rayon::current_num_threads(),
+        load_average()
     );
-    for &n in &sizes {
-        let mut cpu = cloth(n);
-        let n = cpu.num_particles();
+    println!();
+    println!(
+        "| particles | colours | CPU ms/frame | CPU ns/p·it | GPU ms/frame | GPU ns/p·it | empty frame ms | dispatches | CPU/GPU |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for &n in &o.sizes {
+        let mut probe = scene(n, o.collisions, o.self_collision);
+        let n = probe.num_particles();
+        let colours = probe.colour_count();
         let work = (n as f64) * s.substeps as f64 * s.iterations as f64;
-        let (cpu_t, _) = time_frames(3.0, || {
-            cpu.step(DT).expect("a stable CPU step");
-        });
-        let colours = cpu.colour_count();
-        let (mut gpu_t, mut empty) = (f64::NAN, f64::NAN);
+        let mut cpu_t = f64::NAN;
+        if o.cpu {
+            let mut cpu = scene(n, o.collisions, o.self_collision);
+            cpu_t = time_frames(o.budget, |f| {
+                animate(&mut cpu, f);
+                cpu.step(DT).expect("a stable CPU step");
+            });
+        }
+        let (mut gpu_t, mut empty, mut dispatches) = (f64::NAN, f64::NAN, 0);
         if let Some(g) = &mut gpu {
-            let mut sim = cloth(n);
+            let mut sim = scene(n, o.collisions, o.self_collision);
             let mut ok = true;
-            let (t, _) = time_frames(3.0, || {
+            let t = time_frames(o.budget, |f| {
                 if ok {
+                    animate(&mut sim, f);
                     if let Err(e) = g.step(&mut sim, DT) {
                         println!("GPU step failed: {e}");
                         ok = false;
@@ -86,22 +175,24 @@ fn main() {
             });
             if ok {
                 gpu_t = t;
+                dispatches = g.dispatches_per_frame(s.substeps, s.iterations);
                 let _ = g.sync_velocities(&mut sim);
                 empty = (0..3)
-                    .filter_map(|_| g.dispatch_overhead(s.substeps, s.iterations, colours).ok())
+                    .filter_map(|_| g.dispatch_overhead(s.substeps, s.iterations).ok())
                     .fold(f64::INFINITY, f64::min);
             }
             g.mark_dirty();
         }
         println!(
-            "{:>8} {:>7} {:>12.2} {:>12.2} {:>12.2} {:>12.2} {:>14.2}",
-            n,
-            colours,
+            "| {n} | {colours} | {:.1} | {:.0} | {:.1} | {:.0} | {:.1} | {dispatches} | {:.2} |",
             cpu_t * 1e3,
             cpu_t * 1e9 / work,
             gpu_t * 1e3,
             gpu_t * 1e9 / work,
-            empty * 1e3
+            empty * 1e3,
+            cpu_t / gpu_t
         );
     }
+    println!();
+    println!("load average at the end: {}", load_average());
 }

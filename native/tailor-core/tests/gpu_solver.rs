@@ -5,11 +5,16 @@
 //! lavapipe, `mesa-vulkan-drivers`, to run them without a GPU).
 #![cfg(feature = "gpu")]
 
+mod collision_common;
+
+use collision_common::{box_mesh, cloth_grid, icosphere, plane_mesh, sim_of};
+use glam::Vec3;
+use tailor_core::collision::metrics::count_self_intersections;
 use tailor_core::mesh::ClothMesh;
 use tailor_core::scenes::{rectangle, sewn_tube};
 use tailor_core::solver::{
-    ActiveBackend, Backend, Fabric, ImplicitCollider, Method, RampPhase, Shape, Simulation, Solver, SolverOptions,
-    SolverSettings,
+    ActiveBackend, Backend, ColliderId, Fabric, ImplicitCollider, MeshColliderOptions, Method, RampPhase,
+    SelfCollisionSettings, Shape, Simulation, Solver, SolverOptions, SolverSettings,
 };
 
 /// Bound on max |Δx| between CPU and GPU positions over the first 30 frames of the hanging
@@ -353,4 +358,217 @@ fn divergence_on_the_gpu_rolls_back_and_reports() {
     let d = max_diff(&cpu, g.simulation());
     println!("after the rollback: max |Δx| {d:.3e} m");
     assert!(d < TOLERANCE_CHEBYSHEV, "{d} m");
+}
+
+/// The same start perturbed by about 1e-6 m (a rounding-sized change), as the CPU reference
+/// of how far contact-rich scenes drift on their own.
+fn perturb(sim: &mut Simulation) {
+    let start: Vec<[f32; 3]> = (0..sim.num_particles())
+        .map(|i| {
+            let p = sim.positions().get(i);
+            let e = 1e-6 * (((i * 7919) % 13) as f32 / 6.0 - 1.0);
+            [p.x + e, p.y - e, p.z + e]
+        })
+        .collect();
+    sim.set_positions(&start).unwrap();
+}
+
+/// What a contact-rich comparison measured.
+#[derive(Debug, Default)]
+struct Drift {
+    /// Worst max |Δx| GPU-CPU and perturbed-CPU-CPU over the frames, metres.
+    gpu: f32,
+    reference: f32,
+    /// GPU-CPU over the frames before the first contact (rounding only).
+    before_contact: f32,
+    /// Most particles in contact (CPU).
+    contacts: usize,
+    /// Deepest particle inside the collider on the GPU at any frame end, metres.
+    gpu_depth: f32,
+}
+
+/// Steps the CPU, the GPU and the perturbed CPU side by side; `animate(frame)` gives the
+/// positions of mesh collider 0 for the end of each frame (all three alike); `collider` is
+/// checked for penetration on the GPU at every frame end. Returns the GPU solver too.
+fn drift(
+    make: &dyn Fn() -> Simulation,
+    frames: usize,
+    test: &str,
+    collider: Option<ColliderId>,
+    animate: &dyn Fn(usize) -> Option<Vec<[f32; 3]>>,
+) -> Option<(Drift, Solver)> {
+    let mut g = gpu(make(), test)?;
+    let mut cpu = make();
+    let mut perturbed = make();
+    perturb(&mut perturbed);
+    let mut out = Drift::default();
+    let mut touched = false;
+    for f in 0..frames {
+        if let Some(p) = animate(f) {
+            cpu.set_collider_positions(ColliderId(0), &p).unwrap();
+            perturbed.set_collider_positions(ColliderId(0), &p).unwrap();
+            g.set_collider_positions(ColliderId(0), &p).unwrap();
+        }
+        let a = cpu.step(1.0 / 30.0).unwrap();
+        let b = g.step(1.0 / 30.0).unwrap();
+        perturbed.step(1.0 / 30.0).unwrap();
+        assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: fell back: {:?}", b.warning);
+        let (d, r) = (max_diff(&cpu, g.simulation()), max_diff(&cpu, &perturbed));
+        out.gpu = out.gpu.max(d);
+        out.reference = out.reference.max(r);
+        touched |= a.contacts > 0 || b.contacts > 0;
+        if !touched {
+            out.before_contact = out.before_contact.max(d);
+        }
+        out.contacts = out.contacts.max(a.contacts);
+        let x = g.simulation().positions();
+        assert!(x.all_finite(), "frame {f}: non-finite positions on the GPU");
+        if let Some(id) = collider {
+            let m = g.simulation().metrics(Some(id)).unwrap();
+            out.gpu_depth = out.gpu_depth.max(m.penetration_max_depth);
+        }
+        if std::env::var("VERBOSE").is_ok() || f % 10 == 0 || f + 1 == frames {
+            println!(
+                "{test} frame {f}: GPU-CPU {d:.3e} m, perturbed CPU-CPU {r:.3e} m, contacts cpu {} gpu {} \
+                 (mesh {} / {}), self pairs cpu {} gpu {}",
+                a.contacts,
+                b.contacts,
+                a.collision.mesh_contacts,
+                b.collision.mesh_contacts,
+                a.collision.self_pairs,
+                b.collision.self_pairs
+            );
+        }
+    }
+    println!("{test}: {out:?}");
+    Some((out, g))
+}
+
+/// Bound on the GPU's drift from the CPU in contact-rich scenes, as a multiple of the CPU's
+/// own drift under a 1e-6 m perturbation of the start (floored at 1e-4 m): contacts switch
+/// a 20× penalty on or off and friction sticks or slides, so rounding-sized differences
+/// grow to the scene's sensitivity; a port error shows as a drift far beyond it.
+const DRIFT_FACTOR: f32 = 5.0;
+
+fn assert_drift(name: &str, d: &Drift) {
+    assert!(d.contacts > 10, "{name}: the cloth never touched ({} contacts)", d.contacts);
+    assert!(d.before_contact < TOLERANCE_GS, "{name}: GPU and CPU differ by {} m before any contact", d.before_contact);
+    assert!(
+        d.gpu < DRIFT_FACTOR * d.reference.max(1e-4),
+        "{name}: GPU drifts {} m from the CPU, the CPU {} m from itself",
+        d.gpu,
+        d.reference
+    );
+}
+
+/// A 0.6 m cloth (17 × 17) dropped on a 320-triangle sphere mesh of radius 0.25 m, with
+/// per-particle friction on one half and the collider's on the other.
+fn cloth_on_sphere() -> (Simulation, ColliderId) {
+    let (sv, st) = icosphere(2, 0.25, Vec3::ZERO);
+    let (p, r, t) = cloth_grid(0.6, 16, 0.0, 0.0, 0.3);
+    let mut sim = sim_of(p, r, t, SolverSettings::default());
+    let opts = MeshColliderOptions { static_friction: 0.6, kinetic_friction: 0.4, ..Default::default() };
+    let id = sim.add_mesh_collider(&sv, &st, opts).unwrap();
+    let n = sim.num_particles();
+    let mu_s: Vec<f32> = (0..n).map(|i| if i < n / 2 { 0.1 } else { 0.6 }).collect();
+    let mu_k: Vec<f32> = mu_s.iter().map(|m| 0.5 * m).collect();
+    sim.set_particle_friction(Some((&mu_s, &mu_k))).unwrap();
+    (sim, id)
+}
+
+#[test]
+fn mesh_collider_matches_the_cpu_and_keeps_the_cloth_outside() {
+    let id = cloth_on_sphere().1;
+    let make = || cloth_on_sphere().0;
+    let Some((d, _)) = drift(&make, 30, "mesh_sphere", Some(id), &|_| None) else { return };
+    assert_drift("sphere mesh", &d);
+    // The quality metric on the GPU's result: nothing deeper than the thickness inside.
+    assert!(d.gpu_depth <= 3e-3, "a particle went {} m inside the sphere on the GPU", d.gpu_depth);
+}
+
+/// A box (12 large triangles: the plane cells of the insertion rule matter) rising into a
+/// falling cloth: collider positions given once per frame, interpolated per substep on the
+/// GPU, and friction against a moving surface.
+fn cloth_over_rising_box() -> (Simulation, ColliderId) {
+    let (bv, bt) = box_mesh(0.15, Vec3::new(0.0, 0.0, -0.2));
+    let (p, r, t) = cloth_grid(0.5, 14, 0.0, 0.0, 0.05);
+    let mut sim = sim_of(p, r, t, SolverSettings::default());
+    let id = sim.add_mesh_collider(&bv, &bt, MeshColliderOptions::default()).unwrap();
+    (sim, id)
+}
+
+fn raise_box(frame: usize) -> Option<Vec<[f32; 3]>> {
+    Some(box_mesh(0.15, Vec3::new(0.0, 0.0, -0.2 + 0.01 * (frame + 1).min(20) as f32)).0)
+}
+
+#[test]
+fn moving_mesh_collider_matches_the_cpu() {
+    let id = cloth_over_rising_box().1;
+    let make = || cloth_over_rising_box().0;
+    let Some((d, _)) = drift(&make, 30, "rising_box", Some(id), &raise_box) else { return };
+    assert_drift("rising box", &d);
+    assert!(d.gpu_depth <= 3e-3, "a particle went {} m inside the box on the GPU", d.gpu_depth);
+}
+
+/// Two stacked 0.4 m layers (17 × 17 each, the upper shifted by a third of a cell) falling
+/// on a floor mesh, with self-collision (as `collision_self.rs`), optionally with levels.
+/// Self-collision sums each particle's pair corrections in another order on the GPU (a
+/// gather, cell by cell) than on the CPU (a scatter, by partner index): rounding, which
+/// the stacked layers amplify like a contact flip (measured: GPU-CPU 1.0e-3 m, the CPU
+/// against itself 1.4e-3 m).
+fn two_layers(levels: Option<(i32, i32)>) -> Simulation {
+    let (p0, r0, t0) = cloth_grid(0.4, 16, 0.0, 0.0, 0.05);
+    let (p1, _, t1) = cloth_grid(0.4, 16, 0.0083, 0.0083, 0.09);
+    let n0 = p0.len() as u32;
+    let pos: Vec<[f32; 3]> = p0.iter().chain(&p1).copied().collect();
+    let rest: Vec<[f32; 2]> = r0.iter().copied().chain(r0.iter().map(|r| [r[0] + 1.0, r[1]])).collect();
+    let tris: Vec<[u32; 3]> = t0.iter().copied().chain(t1.iter().map(|t| t.map(|v| v + n0))).collect();
+    let mut sim = sim_of(pos, rest, tris, SolverSettings::default());
+    let (fv, ft) = plane_mesh(2.0, 10, Vec3::ZERO, Vec3::X, Vec3::Y);
+    sim.add_mesh_collider(&fv, &ft, MeshColliderOptions::default()).unwrap();
+    sim.set_self_collision(SelfCollisionSettings { enabled: true, ..Default::default() }).unwrap();
+    if let Some((a, b)) = levels {
+        let lv: Vec<i32> = (0..sim.num_particles()).map(|i| if (i as u32) < n0 { a } else { b }).collect();
+        sim.set_particle_levels(&lv).unwrap();
+    }
+    sim
+}
+
+fn layer_heights(sim: &Simulation) -> (f32, f32) {
+    let z = &sim.positions().z;
+    let n0 = z.len() / 2;
+    let mean = |s: &[f32]| s.iter().sum::<f32>() / s.len() as f32;
+    (mean(&z[..n0]), mean(&z[n0..]))
+}
+
+#[test]
+fn self_collision_matches_the_cpu_and_keeps_layers_apart() {
+    let make = || two_layers(None);
+    let Some((d, g)) = drift(&make, 20, "two_layers", None, &|_| None) else { return };
+    assert_drift("two layers", &d);
+    let sim = g.simulation();
+    let crossings = count_self_intersections(&sim.positions().to_aos(), sim.model().mesh.triangles()).unwrap();
+    let (lo, hi) = layer_heights(sim);
+    let r = sim.self_collision_radius();
+    println!("GPU layers: mean heights {lo:.4} / {hi:.4} m, radius {r:.4} m, {crossings} intersecting pairs");
+    assert_eq!(crossings, 0, "the layers intersect on the GPU");
+    assert!(lo < 0.01 && hi - lo > 1.5 * r, "layers not stacked on the GPU: {lo} / {hi}");
+    assert_eq!(sim.metrics(None).unwrap().self_intersections, 0);
+}
+
+/// Collision levels on the GPU: levels 1 and 2 let the upper layer fall through the lower
+/// onto the floor (cloth pairs filtered; the floor, level 0, still collides with both), as
+/// on the CPU. (Levels that collide are the self-collision test above, all at level 0.)
+/// 15 frames: the layers land by frame 5; self-collision frames are the slowest on lavapipe.
+#[test]
+fn collision_levels_filter_pairs_on_the_gpu() {
+    let Some(mut g) = gpu(two_layers(Some((1, 2))), "levels") else { return };
+    for _ in 0..15 {
+        let st = g.step(1.0 / 30.0).unwrap();
+        assert_eq!(st.backend, ActiveBackend::Gpu);
+        assert_eq!(st.collision.self_pairs, 0, "levels 1 and 2 produced cloth pairs");
+    }
+    let (lo, hi) = layer_heights(g.simulation());
+    println!("GPU levels (1, 2): mean heights {lo:.4} / {hi:.4} m");
+    assert!(lo < 0.01 && (hi - lo).abs() < 0.003, "levels 1 and 2 should let the layers through: {lo} / {hi}");
 }

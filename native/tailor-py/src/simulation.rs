@@ -17,11 +17,32 @@ use crate::settings::{parse_method, Fabric, Settings};
 /// all in metres.
 #[pyclass(module = "tailor")]
 pub struct Simulation {
-    inner: core::Simulation,
+    inner: core::Solver,
 }
 
-fn stats_dict<'py>(py: Python<'py>, s: &StepStats) -> PyResult<Bound<'py, PyDict>> {
+fn parse_backend(name: &str) -> PyResult<core::Backend> {
+    match name {
+        "auto" => Ok(core::Backend::Auto),
+        "cpu" => Ok(core::Backend::Cpu),
+        "gpu" => Ok(core::Backend::Gpu),
+        other => {
+            Err(to_py(tailor_core::TailorError::setting("backend", other, "expected \"auto\", \"cpu\" or \"gpu\"")))
+        }
+    }
+}
+
+fn backend_name(b: core::ActiveBackend) -> &'static str {
+    match b {
+        core::ActiveBackend::Cpu => "cpu",
+        core::ActiveBackend::Gpu => "gpu",
+    }
+}
+
+fn stats_dict<'py>(py: Python<'py>, s: &StepStats, adapter: Option<String>) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
+    d.set_item("backend", backend_name(s.backend))?;
+    d.set_item("adapter", adapter)?;
+    d.set_item("warning", s.warning.clone())?;
     d.set_item("substeps", s.substeps)?;
     d.set_item("iterations", s.iterations)?;
     d.set_item("residual", s.residual)?;
@@ -51,14 +72,16 @@ fn stats_dict<'py>(py: Python<'py>, s: &StepStats) -> PyResult<Bound<'py, PyDict
 #[pymethods]
 impl Simulation {
     #[new]
-    #[pyo3(signature = (positions, triangles_, rest, fabric=None, settings=None))]
+    #[pyo3(signature = (positions, triangles_, rest, fabric=None, settings=None, backend="auto"))]
     fn new(
         positions: &Bound<'_, PyAny>,
         triangles_: &Bound<'_, PyAny>,
         rest: &Bound<'_, PyAny>,
         fabric: Option<Fabric>,
         settings: Option<Settings>,
+        backend: &str,
     ) -> PyResult<Self> {
+        let backend = parse_backend(backend)?;
         let mesh = ClothMesh::new(
             points3(positions, "positions")?,
             points2(rest, "rest")?,
@@ -70,17 +93,45 @@ impl Simulation {
             Some(s) => s.to_core()?,
             None => core::SolverSettings::default(),
         };
-        Ok(Self { inner: core::Simulation::new(mesh, fabric, settings).map_err(to_py)? })
+        let sim = core::Simulation::new(mesh, fabric, settings).map_err(to_py)?;
+        Ok(Self { inner: core::Solver::new(sim, backend) })
+    }
+
+    /// Chooses the backend: "auto" (the GPU for large scenes on a hardware adapter), "cpu" or
+    /// "gpu" (the CPU, with a warning in `backend_warning` and the step stats, when no
+    /// adapter exists or the scene is not supported there). The state is kept.
+    fn set_backend(&mut self, backend: &str) -> PyResult<()> {
+        let backend = parse_backend(backend)?;
+        self.inner.set_backend(core::SolverOptions { backend, ..Default::default() });
+        Ok(())
+    }
+
+    /// The backend the next step will use: "cpu" or "gpu".
+    #[getter]
+    fn backend(&self) -> &'static str {
+        backend_name(self.inner.active_backend())
+    }
+
+    /// The GPU adapter in use (name, API, type, driver), or None on the CPU.
+    #[getter]
+    fn adapter(&self) -> Option<String> {
+        self.inner.adapter()
+    }
+
+    /// Why the GPU asked for is not in use, or None.
+    #[getter]
+    fn backend_warning(&self) -> Option<String> {
+        self.inner.warning().map(str::to_owned)
     }
 
     #[getter]
     fn num_particles(&self) -> usize {
-        self.inner.num_particles()
+        self.inner.simulation().num_particles()
     }
 
     #[getter]
     fn num_triangles(&self) -> usize {
-        self.inner.model().mesh.num_triangles()
+        self.inner.simulation().model().mesh.num_triangles()
     }
 
     /// Positions, a new (n, 3) float32 array.
@@ -91,54 +142,60 @@ impl Simulation {
 
     #[setter(positions)]
     fn set_positions(&mut self, p: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.inner.set_positions(&points3(p, "positions")?).map_err(to_py)
+        let positions = points3(p, "positions")?;
+        self.inner.edit(|sim| sim.set_positions(&positions)).map_err(to_py)
     }
 
+    /// Velocities (brought back from the GPU when it runs the simulation).
     #[getter]
-    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+    fn velocities<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         soa_to_numpy(py, self.inner.velocities())
     }
 
     #[setter(velocities)]
     fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.inner.set_velocities(&points3(v, "velocities")?).map_err(to_py)
+        let velocities = points3(v, "velocities")?;
+        self.inner.edit(|sim| sim.set_velocities(&velocities)).map_err(to_py)
     }
 
     /// Particle masses, kg (density × a third of adjacent rest areas × mass scale).
     #[getter]
     fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        vec_to_numpy(py, self.inner.masses().to_vec())
+        vec_to_numpy(py, self.inner.simulation().masses().to_vec())
     }
 
     #[getter]
     fn settings(&self) -> Settings {
-        Settings::from(self.inner.settings())
+        Settings::from(self.inner.simulation().settings())
     }
 
     #[setter(settings)]
     fn set_settings(&mut self, s: Settings) -> PyResult<()> {
-        self.inner.set_settings(s.to_core()?).map_err(to_py)
+        let settings = s.to_core()?;
+        self.inner.edit(|sim| sim.set_settings(settings)).map_err(to_py)
     }
 
     /// Collision thickness, metres.
     #[setter(thickness)]
     fn set_thickness(&mut self, t: f32) -> PyResult<()> {
-        self.inner.set_thickness(t).map_err(to_py)
+        self.inner.edit(|sim| sim.set_thickness(t)).map_err(to_py)
     }
 
     fn set_mass_scale(&mut self, scale: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.inner.set_mass_scale(&floats(scale, "mass scale")?).map_err(to_py)
+        let scale = floats(scale, "mass scale")?;
+        self.inner.edit(|sim| sim.set_mass_scale(&scale)).map_err(to_py)
     }
 
     fn set_triangle_stiffness(&mut self, stretch: &Bound<'_, PyAny>, shear: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.inner.set_triangle_stiffness(&floats(stretch, "stretch")?, &floats(shear, "shear")?).map_err(to_py)
+        let (stretch, shear) = (floats(stretch, "stretch")?, floats(shear, "shear")?);
+        self.inner.edit(|sim| sim.set_triangle_stiffness(&stretch, &shear)).map_err(to_py)
     }
 
     /// Bending rest shape from a pose (n, 3), keeping its creases; None = flat.
     #[pyo3(signature = (pose=None))]
     fn set_bending_rest_pose(&mut self, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         let p = pose.map(|p| points3(p, "pose")).transpose()?;
-        self.inner.set_bending_rest_pose(p.as_deref()).map_err(to_py)
+        self.inner.edit(|sim| sim.set_bending_rest_pose(p.as_deref())).map_err(to_py)
     }
 
     /// Sews vertex path `a` to vertex path `b` one-to-one (equal counts). Returns the number
@@ -152,10 +209,10 @@ impl Simulation {
         bend_stiffness: f32,
         name: &str,
     ) -> PyResult<usize> {
-        let n = self.inner.num_particles();
+        let n = self.inner.simulation().num_particles();
         let (a, b) = (indices(a, "seam side A", n)?, indices(b, "seam side B", n)?);
         let seam = Seam::one_to_one(name, &a, &b, stiffness, bend_stiffness).map_err(to_py)?;
-        self.inner.add_seam(seam).map_err(to_py)
+        self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
     }
 
     /// Sews weighted points: each side is (k, 2) vertex indices and (k, 2) weights summing to
@@ -173,7 +230,7 @@ impl Simulation {
         bend_stiffness: f32,
         name: &str,
     ) -> PyResult<usize> {
-        let n = self.inner.num_particles();
+        let n = self.inner.simulation().num_particles();
         let side = |v: &Bound<'_, PyAny>, w: &Bound<'_, PyAny>, label: &str| -> PyResult<Vec<SeamPoint>> {
             let verts = indices(&v.call_method1("reshape", (-1,))?, label, n)?;
             let weights = floats(&w.call_method1("reshape", (-1,))?, label)?;
@@ -201,20 +258,20 @@ impl Simulation {
             }));
         }
         let seam = Seam { name: name.into(), pairs: a.into_iter().zip(b).collect(), stiffness, bend_stiffness };
-        self.inner.add_seam(seam).map_err(to_py)
+        self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
     }
 
     /// Pins particles hard, at `targets` (k, 3) or where they are.
     #[pyo3(signature = (particles, targets=None))]
     fn pin(&mut self, particles: &Bound<'_, PyAny>, targets: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        let p = indices(particles, "pin", self.inner.num_particles())?;
+        let p = indices(particles, "pin", self.inner.simulation().num_particles())?;
         let t = targets.map(|t| points3(t, "pin targets")).transpose()?;
-        self.inner.pin(&p, t.as_deref()).map_err(to_py)
+        self.inner.edit(|sim| sim.pin(&p, t.as_deref())).map_err(to_py)
     }
 
     fn unpin(&mut self, particles: &Bound<'_, PyAny>) -> PyResult<()> {
-        let p = indices(particles, "unpin", self.inner.num_particles())?;
-        self.inner.unpin(&p).map_err(to_py)
+        let p = indices(particles, "unpin", self.inner.simulation().num_particles())?;
+        self.inner.edit(|sim| sim.unpin(&p)).map_err(to_py)
     }
 
     /// Soft attachments of particles to targets (k, 3) with a weight (N/m).
@@ -224,7 +281,7 @@ impl Simulation {
         targets: &Bound<'_, PyAny>,
         weight: f32,
     ) -> PyResult<()> {
-        let p = indices(particles, "attachments", self.inner.num_particles())?;
+        let p = indices(particles, "attachments", self.inner.simulation().num_particles())?;
         let t = points3(targets, "attachment targets")?;
         if t.len() != p.len() {
             return Err(to_py(tailor_core::TailorError::shape(
@@ -233,13 +290,14 @@ impl Simulation {
             )));
         }
         for (&particle, &target) in p.iter().zip(&t) {
-            self.inner.add_attachment(Attachment { particle, target, weight }).map_err(to_py)?;
+            self.inner.edit(|sim| sim.add_attachment(Attachment { particle, target, weight })).map_err(to_py)?;
         }
         Ok(())
     }
 
     fn set_attachment_targets(&mut self, targets: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.inner.set_attachment_targets(&points3(targets, "attachment targets")?).map_err(to_py)
+        let targets = points3(targets, "attachment targets")?;
+        self.inner.edit(|sim| sim.set_attachment_targets(&targets)).map_err(to_py)
     }
 
     #[pyo3(signature = (center, radius, static_friction=0.5, kinetic_friction=0.3))]
@@ -288,20 +346,22 @@ impl Simulation {
             }
             Ok::<_, tailor_core::TailorError>(last)
         });
-        stats_dict(py, &stats.map_err(to_py)?)
+        let stats = stats.map_err(to_py)?;
+        let adapter = if stats.backend == core::ActiveBackend::Gpu { self.inner.adapter() } else { None };
+        stats_dict(py, &stats, adapter)
     }
 
     /// (largest sewn-pair gap in metres, fraction of pairs under the ramp threshold).
     fn seam_gaps(&self) -> (f32, f32) {
-        self.inner.seam_gaps()
+        self.inner.simulation().seam_gaps()
     }
 
     fn colour_count(&mut self) -> usize {
-        self.inner.colour_count()
+        self.inner.edit(|sim| sim.colour_count())
     }
 
     fn state_hash(&self) -> u64 {
-        self.inner.state_hash()
+        self.inner.simulation().state_hash()
     }
 
     /// Measures `iterations` iterations of `method` on the next substep against the reference
@@ -319,7 +379,7 @@ impl Simulation {
         let method = parse_method(method)?;
         let opts = ReferenceOptions { max_iterations: reference_iterations, tolerance_m: reference_tolerance };
         let inner = &mut self.inner;
-        let m = py.detach(|| inner.measure_step(dt, method, iterations, opts)).map_err(to_py)?;
+        let m = py.detach(|| inner.edit(|s| s.measure_step(dt, method, iterations, opts))).map_err(to_py)?;
         let d = PyDict::new(py);
         let r = PyDict::new(py);
         r.set_item("iterations", m.reference.iterations)?;
@@ -358,46 +418,48 @@ impl Simulation {
             rule: colliders::insertion_rule(insertion)?,
         };
         let (v, t) = (points3(vertices, "collider vertices")?, triangles(triangles_, "collider triangles")?);
-        Ok(self.inner.add_mesh_collider(&v, &t, opts).map_err(to_py)?.0)
+        Ok(self.inner.edit(|sim| sim.add_mesh_collider(&v, &t, opts)).map_err(to_py)?.0)
     }
 
     #[getter]
     fn num_mesh_colliders(&self) -> usize {
-        self.inner.num_mesh_colliders()
+        self.inner.simulation().num_mesh_colliders()
     }
 
     /// The collider's vertex positions (n, 3) at the end of the next step.
     fn set_collider_positions(&mut self, collider: i64, positions: &Bound<'_, PyAny>) -> PyResult<()> {
-        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
+        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
         self.inner.set_collider_positions(id, &points3(positions, "collider positions")?).map_err(to_py)
     }
 
     /// The collider's positions at the last substep run.
     fn collider_positions<'py>(&self, py: Python<'py>, collider: i64) -> PyResult<Bound<'py, PyAny>> {
-        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
-        colliders::rows_to_numpy(py, self.inner.collider_positions(id).map_err(to_py)?)
+        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+        colliders::rows_to_numpy(py, self.inner.simulation().collider_positions(id).map_err(to_py)?)
     }
 
     /// Collision levels of a collider, one per vertex or one per triangle.
     fn set_collider_levels(&mut self, collider: i64, levels: &Bound<'_, PyAny>) -> PyResult<()> {
-        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
-        self.inner.set_collider_levels(id, &colliders::levels(levels, "collider levels")?).map_err(to_py)
+        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+        let levels = colliders::levels(levels, "collider levels")?;
+        self.inner.edit(|sim| sim.set_collider_levels(id, &levels)).map_err(to_py)
     }
 
     fn set_collider_friction(&mut self, collider: i64, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
-        let id = colliders::collider_id(collider, self.inner.num_mesh_colliders())?;
-        self.inner.set_collider_friction(id, static_friction, kinetic_friction).map_err(to_py)
+        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+        self.inner.edit(|sim| sim.set_collider_friction(id, static_friction, kinetic_friction)).map_err(to_py)
     }
 
     /// Collision level per cloth particle: a particle of level a and a primitive of level b
     /// collide unless a != 0, b != 0 and a != b.
     fn set_particle_levels(&mut self, levels: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.inner.set_particle_levels(&colliders::levels(levels, "particle levels")?).map_err(to_py)
+        let levels = colliders::levels(levels, "particle levels")?;
+        self.inner.edit(|sim| sim.set_particle_levels(&levels)).map_err(to_py)
     }
 
     #[getter]
     fn particle_levels<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        PyArray1::from_vec(py, self.inner.particle_levels().to_vec()).into_any()
+        PyArray1::from_vec(py, self.inner.simulation().particle_levels().to_vec()).into_any()
     }
 
     /// Per-particle static and kinetic friction (overriding the colliders' and the
@@ -411,9 +473,9 @@ impl Simulation {
         match (static_friction, kinetic_friction) {
             (Some(s), Some(k)) => {
                 let (s, k) = (floats(s, "static_friction")?, floats(k, "kinetic_friction")?);
-                self.inner.set_particle_friction(Some((&s, &k))).map_err(to_py)
+                self.inner.edit(|sim| sim.set_particle_friction(Some((&s, &k)))).map_err(to_py)
             }
-            (None, None) => self.inner.set_particle_friction(None).map_err(to_py),
+            (None, None) => self.inner.edit(|sim| sim.set_particle_friction(None)).map_err(to_py),
             _ => Err(to_py(tailor_core::TailorError::shape(
                 "particle friction",
                 "give both static and kinetic coefficients, or neither",
@@ -431,36 +493,44 @@ impl Simulation {
         kinetic_friction: f32,
     ) -> PyResult<()> {
         let s = core::SelfCollisionSettings { enabled, radius, static_friction, kinetic_friction };
-        self.inner.set_self_collision(s).map_err(to_py)
+        self.inner.edit(|sim| sim.set_self_collision(s)).map_err(to_py)
     }
 
     /// Self-collision settings in effect (radius resolved).
     #[getter]
     fn self_collision<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        colliders::self_collision_dict(py, &self.inner.self_collision(), self.inner.self_collision_radius())
+        colliders::self_collision_dict(
+            py,
+            &self.inner.simulation().self_collision(),
+            self.inner.simulation().self_collision_radius(),
+        )
     }
 
     /// Quality of the current state: penetration into mesh collider `collider` (if given),
     /// self-intersections, seam gap, edge strain, kinetic energy.
     #[pyo3(signature = (collider=None))]
-    fn metrics<'py>(&self, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
-        let id = collider.map(|c| colliders::collider_id(c, self.inner.num_mesh_colliders())).transpose()?;
-        let inner = &self.inner;
+    fn metrics<'py>(&mut self, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
+        let id =
+            collider.map(|c| colliders::collider_id(c, self.inner.simulation().num_mesh_colliders())).transpose()?;
+        let inner = &mut self.inner;
         let m = py.detach(|| inner.metrics(id)).map_err(to_py)?;
         colliders::metrics_dict(py, &m)
     }
 
     fn __repr__(&self) -> String {
         format!(
-            "Simulation({} particles, {} triangles)",
-            self.inner.num_particles(),
-            self.inner.model().mesh.num_triangles()
+            "Simulation({} particles, {} triangles, backend {})",
+            self.inner.simulation().num_particles(),
+            self.inner.simulation().model().mesh.num_triangles(),
+            backend_name(self.inner.active_backend())
         )
     }
 }
 
 impl Simulation {
     fn add_collider(&mut self, shape: Shape, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
-        self.inner.add_collider(ImplicitCollider { shape, static_friction, kinetic_friction }).map_err(to_py)
+        self.inner
+            .edit(|sim| sim.add_collider(ImplicitCollider { shape, static_friction, kinetic_friction }))
+            .map_err(to_py)
     }
 }

@@ -81,26 +81,28 @@ def run(args):
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
     gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
     warnings = []
-    if args.backend == "gpu":
-        warnings.append("the GPU backend is not available in this build of the module: using the CPU")
     garment = tailor.Garment.load(args.garment)
     if args.edge:
         for i in range(len(garment.pieces)):
             garment.set_resolution(i, args.edge)
     settings = tailor.Settings(substeps=args.substeps, iterations=args.iterations, gravity=gravity)
     sim, _offsets = garment.build_simulation(settings=settings)
+    sim.set_backend(args.backend)
     sim.thickness = args.thickness
     sim.set_self_collision(enabled=args.self_collision)
     motion = ColliderMotion(args.collider, args.collider_anim, args.fps)
     cid = sim.add_mesh_collider(motion.at(0), motion.triangles)
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
-          f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}")
+          f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}, "
+          f"backend {sim.backend}{f' ({sim.adapter})' if sim.adapter else ''}")
     frames, cache = [], []
     for f in range(args.frames):
         sim.set_collider_positions(cid, motion.at(f))
         t0 = time.perf_counter()
         try:
-            sim.step(1.0 / args.fps)
+            stats = sim.step(1.0 / args.fps)
+            if stats["warning"] and stats["warning"] not in warnings:
+                warnings.append(stats["warning"])
             nan = False
         except tailor.SimulationError as exc:
             warnings.append(f"frame {f + 1}: {exc}")
@@ -126,7 +128,14 @@ def run(args):
                   f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}")
     summary = {k: max(r[k] for r in frames) for k in FIELDS}
     summary.update(frame=len(frames), ms=float(np.mean([r["ms"] for r in frames])), nan=any(r["nan"] for r in frames))
-    report = {"frames": frames, "summary": summary, "warnings": warnings, "thickness_m": args.thickness}
+    report = {
+        "frames": frames,
+        "summary": summary,
+        "warnings": warnings,
+        "thickness_m": args.thickness,
+        "backend": sim.backend,
+        "adapter": sim.adapter,
+    }
     Path(args.report).parent.mkdir(parents=True, exist_ok=True)
     tmp = args.report + ".tmp"
     with open(tmp, "w") as fh:

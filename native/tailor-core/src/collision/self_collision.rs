@@ -81,6 +81,12 @@ impl ExclusionSet {
         Self::from_pairs(num_particles, tri_pairs.chain(seams.iter().copied()))
     }
 
+    /// The set as compressed rows: `neighbours[offsets[a]..offsets[a + 1]]` are the particles
+    /// `a` must not collide with, sorted (the GPU backend uploads this).
+    pub fn csr(&self) -> (&[u32], &[u32]) {
+        (&self.offsets, &self.neighbours)
+    }
+
     /// Whether `a` and `b` must not collide.
     #[inline]
     pub fn contains(&self, a: u32, b: u32) -> bool {

@@ -10,7 +10,7 @@ pub const PHASE_CLOSING: u32 = 0;
 pub const PHASE_RELEASING: u32 = 1;
 pub const PHASE_DONE: u32 = 2;
 
-/// Mirror of WGSL `Params` (uniform; 160 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
+/// Mirror of WGSL `Params` (uniform; 224 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
 /// 12 bytes) followed by `h`, so no padding is needed there; the size is a multiple of 16.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -50,12 +50,28 @@ pub struct Params {
     pub curved_wr: u32,
     pub n_colliders: u32,
     pub thickness: f32,
+    pub substeps: u32,
+    pub n_meshes: u32,
+    pub n_mesh_verts: u32,
+    pub n_mesh_tris: u32,
+    pub mesh_tris: u32,
+    pub tri_levels: u32,
+    pub particle_levels: u32,
+    pub pinned: u32,
+    pub has_friction: u32,
+    pub friction: u32,
+    pub self_enabled: u32,
+    pub self_radius: f32,
+    pub self_cell: f32,
+    pub self_mu_s: f32,
+    pub self_mu_k: f32,
+    pub self_mask: u32,
+    pub excl_off: u32,
+    pub excl_nbr: u32,
     pub _pad0: u32,
-    pub _pad1: u32,
-    pub _pad2: u32,
 }
 
-/// Mirror of WGSL `StepState` (storage; 48 bytes, explicit tail padding).
+/// Mirror of WGSL `StepState` (storage; 64 bytes, explicit tail padding).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
 pub struct StepState {
@@ -71,6 +87,13 @@ pub struct StepState {
     pub closed_fraction: f32,
     /// Particles in contact after the last substep's iterations.
     pub contacts: u32,
+    /// Substep of the frame being run (the ramp stage wraps it to 0 after the last).
+    pub substep: u32,
+    /// Particles touching a mesh collider after the last substep.
+    pub mesh_contacts: u32,
+    /// Overlapping cloth pairs of the last self-collision pass.
+    pub self_pairs: u32,
+    pub _pad0: u32,
     pub _pad1: u32,
 }
 
@@ -105,7 +128,7 @@ pub struct Collider {
     pub _pad1: u32,
 }
 
-/// Mirror of WGSL `Contact` (32 bytes).
+/// Mirror of WGSL `Contact` (48 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
 pub struct Contact {
@@ -113,6 +136,8 @@ pub struct Contact {
     pub weight: f32,
     pub normal: [f32; 3],
     pub collider: u32,
+    pub bary: [f32; 3],
+    pub tri: u32,
 }
 
 /// Parses and validates a WGSL source with naga (no GPU needed); the error names the stage.

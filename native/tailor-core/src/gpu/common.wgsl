@@ -41,9 +41,30 @@ struct Params {
     curved_wr: u32,
     n_colliders: u32,
     thickness: f32,
+    substeps: u32,
+    // Mesh colliders (`collide_common.wgsl`): counts, and sections of `idx`: triangle
+    // vertices (global), triangle levels, particle levels, pinned flags.
+    n_meshes: u32,
+    n_mesh_verts: u32,
+    n_mesh_tris: u32,
+    mesh_tris: u32,
+    tri_levels: u32,
+    particle_levels: u32,
+    pinned: u32,
+    // Per-particle friction (static, kinetic) pairs in `fdata`, when has_friction != 0.
+    has_friction: u32,
+    friction: u32,
+    // Self-collision: sphere radius, hash cell, default friction, bucket mask of the particle
+    // hash, and the exclusion set (CSR rows and neighbours in `idx`).
+    self_enabled: u32,
+    self_radius: f32,
+    self_cell: f32,
+    self_mu_s: f32,
+    self_mu_k: f32,
+    self_mask: u32,
+    excl_off: u32,
+    excl_nbr: u32,
     _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
 }
 
 // Per-substep iteration state and the seam-closing ramp, owned by the GPU.
@@ -59,6 +80,11 @@ struct StepState {
     gap_max: f32,
     closed_fraction: f32,
     contacts: u32,
+    // Substep of the frame being run (wraps to 0 after the last).
+    substep: u32,
+    mesh_contacts: u32,
+    self_pairs: u32,
+    _pad0: u32,
     _pad1: u32,
 }
 
@@ -81,12 +107,16 @@ struct Collider {
     _pad1: u32,
 }
 
-// A particle's contact this iteration: target and weight (0 = none), normal and collider.
+// A particle's contact this iteration: target and weight (0 = none), normal and collider
+// (analytic index, or MESH_CONTACT | mesh collider), and for mesh contacts the touched
+// triangle (collider-local) and the barycentrics of the closest point (for friction).
 struct Contact {
     target_pos: vec3<f32>,
     weight: f32,
     normal: vec3<f32>,
     collider: u32,
+    bary: vec3<f32>,
+    tri: u32,
 }
 
 // Static per-particle data.
@@ -101,6 +131,17 @@ const KIND_PLANE: u32 = 0u;
 const KIND_SPHERE: u32 = 1u;
 const KIND_CAPSULE: u32 = 2u;
 const NO_COLLIDER: u32 = 0xffffffffu;
+// `collide::MESH_CONTACT`: the contact is with mesh collider `collider & ~MESH_CONTACT`.
+const MESH_CONTACT: u32 = 0x80000000u;
+
+// Whether a contact is with an analytic collider (port of the CPU's `c & MESH_CONTACT == 0`).
+fn is_analytic(c: u32) -> bool {
+    return c != NO_COLLIDER && (c & MESH_CONTACT) == 0u;
+}
+
+fn is_mesh(c: u32) -> bool {
+    return c != NO_COLLIDER && (c & MESH_CONTACT) != 0u;
+}
 
 fn sphere_distance(p: vec3<f32>, c: vec3<f32>, r: f32) -> vec4<f32> {
     let d = p - c;

@@ -1,13 +1,21 @@
-//! Host side of `contacts.wgsl` (contact detection against analytic colliders).
+//! Host side of `contacts.wgsl` (contact detection against analytic and mesh colliders).
+//! The stage is composed as `common + collide_common + mesh_query + contacts`.
 
 use super::Buffers;
 
-pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("contacts.wgsl"));
+pub const SOURCE: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("collide_common.wgsl"),
+    include_str!("mesh_query.wgsl"),
+    include_str!("contacts.wgsl")
+);
 pub const ENTRY: &str = "detect";
 pub const WORKGROUP: u32 = 64;
 
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (2, &b.fdata), (3, &b.x), (4, &b.particles), (5, &b.colliders), (6, &b.contacts)]
+    let mut e = vec![(0, &b.params), (2, &b.fdata), (3, &b.x), (4, &b.particles), (5, &b.colliders), (6, &b.contacts)];
+    e.extend(super::mesh_query::entries(b));
+    e
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
-// Damping stage (port of `Simulation::finish_substep`): penetrations left after the
-// iterations are pushed out, v = (x − x_start)/h, Coulomb friction for particles in contact,
+// Damping stage (port of `Simulation::finish_substep`, after `resolve_mesh`): penetrations of
+// analytic colliders left after the iterations are pushed out, v = (x − x_start)/h, Coulomb friction for particles in contact,
 // then air damping exp(−c·h) with c the seam-closing ramp's damping before it advances.
 
 @group(0) @binding(2) var<storage, read_write> x: array<vec4<f32>>;
@@ -44,7 +44,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let xs = x_start[i].xyz;
     var vel = (p - xs) * params.inv_h;
     let ct = contacts[i];
-    if (ct.collider != NO_COLLIDER) {
+    // Mesh contacts had their friction in `resolve_mesh.wgsl`.
+    if (is_analytic(ct.collider)) {
         // The prediction y as `predict` computed it (contacts never involve pinned particles).
         let y = xs + v[i].xyz * params.h + params.gravity * (params.h * params.h);
         let v_pred = (y - xs) * params.inv_h;

@@ -1,8 +1,10 @@
 //! The per-frame solve on the GPU (feature `gpu`): wgpu compute shaders in WGSL running the
 //! same substeps as [`Simulation::step`](crate::solver::Simulation::step).
 //!
-//! Each stage is one WGSL file with its host side beside it (`predict`, `contacts`, `project_triangles`,
-//! `project_stencils`, `gauss_seidel`, `chebyshev`, `finish`, `ramp`; `common` holds the shared structs). Every WGSL
+//! Each stage is one WGSL file with its host side beside it (`predict`, `mesh_hash`, `hash`,
+//! `contacts`, `project_triangles`, `project_stencils`, `gauss_seidel`, `chebyshev`,
+//! `self_collide`, `resolve_mesh`, `finish`, `ramp`; `common` and `collide_common` hold the
+//! shared structs, `mesh_query` the mesh-collider query). Every WGSL
 //! struct has a `#[repr(C)]` [`bytemuck::Pod`] mirror whose size is checked against naga's
 //! layout in the unit tests, which validate every shader without a GPU.
 //!
@@ -13,34 +15,55 @@
 //! ([`Simulation::gpu_view`](crate::solver::Simulation::gpu_view): colouring, diagonal, the
 //! measured Chebyshev ρ), uploads it once (again only after an edit, reusing the buffers when
 //! they are large enough), then each frame records every substep's dispatches into one
-//! command buffer, submits it, and reads back positions plus a 48-byte state (residual, seam
+//! command buffer, submits it, and reads back positions plus a 64-byte state (residual, seam
 //! gap, ramp phase) once. Velocities are read back only on request.
 //!
 //! **Same physics.** Prediction with pins; stretch and shear projections (ported line for line
 //! from `constraints/triangle.rs`) and curved (creased-rest) bending and seam-hinge stencils;
-//! contacts with analytic colliders (plane, sphere, capsule: detection every iteration, the
-//! penalty term in the row solve, penetration resolution and Coulomb friction after the
-//! iterations); Gauss-Seidel one dispatch per colour (a colour's rows are
+//! contacts with analytic colliders (plane, sphere, capsule) and mesh colliders (detection
+//! every iteration, the penalty term in the row solve, penetration resolution and Coulomb
+//! friction after the iterations); Gauss-Seidel one dispatch per colour (a colour's rows are
 //! independent, so the order inside a dispatch does not matter and the only differences from
 //! the CPU are f32 rounding, e.g. fused multiply-adds); Chebyshev with the CPU's measured ρ and
-//! its growth restart, driven by an on-GPU reduction of the update norm; velocities and air
-//! damping with the seam-closing ramp advanced on the GPU from an on-GPU seam-gap reduction.
+//! its growth restart, driven by an on-GPU reduction of the update norm; self-collision after
+//! each iteration; velocities and air damping with the seam-closing ramp advanced on the GPU
+//! from an on-GPU seam-gap reduction.
+//!
+//! **Collisions** (`collide_common`, `mesh_hash`, `hash`, `mesh_query`, `contacts`,
+//! `resolve_mesh`, `self_collide`). The spatial hash of Eq. 1-3 is built on the GPU by a
+//! counting sort (count per bucket with atomics, one-workgroup prefix sum, scatter at atomic
+//! cursors, per-bucket sort by (cell, primitive) so the table does not depend on the
+//! schedule): for the mesh colliders every substep while one moves (their positions go up
+//! once per frame and are interpolated per substep on the GPU, as on the CPU) and once after
+//! an upload otherwise; for the cloth particles after every iteration with self-collision on.
+//! Buckets use the CPU's Eq. 1 bit for bit (`collide_common::gpu_bucket_of`, tested); entries
+//! carry the whole cell, so cells sharing a bucket are never confused. Collision levels filter
+//! both, per-collider and per-particle Coulomb friction apply as on the CPU. Self-collision is
+//! a per-particle gather (each particle sums its own share of its pairs' corrections), so it is
+//! deterministic; it differs from the CPU's scatter only in the order of that sum.
+//! The collision stages compose their source as `common.wgsl + collide_common.wgsl (+
+//! mesh_query.wgsl) + stage.wgsl`; the unit tests validate exactly those composed sources.
 //!
 //! **Not yet on the GPU** (a [`Solver`](crate::solver::Solver) asked for the GPU falls back to
-//! the CPU with a warning): mesh colliders and self-collision (they need the spatial hash on
-//! the GPU; they are not part of `Simulation` yet either), the Jacobi method, and the early stop on `tolerance` (it would need a
-//! readback per iteration). Flat bending and seams are linear, so they are fully in the matrix
-//! and need no GPU kernel.
+//! the CPU with a warning): the Jacobi method, the early stop on `tolerance` (it would need a
+//! readback per iteration), and more than [`collide_common::MAX_MESHES`] mesh colliders.
+//! Flat bending and seams are linear, so they are fully in the matrix and need no GPU kernel.
 
 pub mod chebyshev;
+pub mod collide_common;
 pub mod common;
 pub mod contacts;
 pub mod finish;
 pub mod gauss_seidel;
+pub mod hash;
+pub mod mesh_hash;
+pub mod mesh_query;
 pub mod predict;
 pub mod project_stencils;
 pub mod project_triangles;
 pub mod ramp;
+pub mod resolve_mesh;
+pub mod self_collide;
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -52,6 +75,10 @@ use crate::solver::damping::{Ramp, RampPhase};
 use crate::solver::settings::Method;
 use crate::solver::{ActiveBackend, Simulation, SolverView, StepStats};
 
+use crate::collision::InsertionRule;
+use crate::solver::collide::mesh_collider::{MeshCollider, PAD};
+use crate::solver::collide::CollisionStats;
+use collide_common::{buckets_for, MeshInfo, Meshes, TableInfo, MAX_MESHES};
 use common::{
     Collider, Contact, Params, StepState, KIND_CAPSULE, KIND_PLANE, KIND_SPHERE, PHASE_CLOSING, PHASE_DONE,
     PHASE_RELEASING,
@@ -108,6 +135,18 @@ pub struct Buffers {
     pub colours: wgpu::Buffer,
     pub contacts: wgpu::Buffer,
     pub colliders: wgpu::Buffer,
+    /// Mesh colliders: the per-frame uniform, vertex sections (see `mesh_query.wgsl`), and the
+    /// hash table's bucket counts, starts and entries, with its size uniform.
+    pub meshes: wgpu::Buffer,
+    pub mverts: wgpu::Buffer,
+    pub mcounts: wgpu::Buffer,
+    pub mtable: wgpu::Buffer,
+    pub mesh_table_info: wgpu::Buffer,
+    /// Self-collision: the particle table and each particle's averaged correction.
+    pub scounts: wgpu::Buffer,
+    pub stable: wgpu::Buffer,
+    pub sdelta: wgpu::Buffer,
+    pub self_table_info: wgpu::Buffer,
     x_backup: wgpu::Buffer,
     v_backup: wgpu::Buffer,
     state_backup: wgpu::Buffer,
@@ -124,6 +163,11 @@ struct Capacities {
     fdata: usize,
     colours: usize,
     colliders: usize,
+    mesh_verts: usize,
+    mesh_tris: usize,
+    mesh_buckets: usize,
+    mesh_entries: usize,
+    self_buckets: usize,
 }
 
 impl Capacities {
@@ -134,6 +178,11 @@ impl Capacities {
             && need.fdata <= self.fdata
             && need.colours <= self.colours
             && need.colliders <= self.colliders
+            && need.mesh_verts <= self.mesh_verts
+            && need.mesh_tris <= self.mesh_tris
+            && need.mesh_buckets <= self.mesh_buckets
+            && need.mesh_entries <= self.mesh_entries
+            && need.self_buckets <= self.self_buckets
     }
 }
 
@@ -171,6 +220,15 @@ impl Buffers {
             colours: mk("colours", caps.colours.max(1) as u64 * colour_stride, U::UNIFORM | U::COPY_DST),
             contacts: mk("contacts", n * std::mem::size_of::<Contact>() as u64, storage),
             colliders: mk("colliders", caps.colliders.max(1) as u64 * std::mem::size_of::<Collider>() as u64, storage),
+            meshes: mk("meshes", std::mem::size_of::<Meshes>() as u64, U::UNIFORM | U::COPY_DST),
+            mverts: mk("mverts", (4 * caps.mesh_verts + caps.mesh_tris) as u64 * VEC4, storage),
+            mcounts: mk("mcounts", caps.mesh_buckets as u64 * 4, storage),
+            mtable: mk("mtable", (caps.mesh_buckets + 1 + 4 * caps.mesh_entries) as u64 * 4, storage),
+            mesh_table_info: mk("mesh_table_info", 16, U::UNIFORM | U::COPY_DST),
+            scounts: mk("scounts", caps.self_buckets as u64 * 4, storage),
+            stable: mk("stable", (caps.self_buckets + 1 + 4 * n as usize) as u64 * 4, storage),
+            sdelta: mk("sdelta", n * VEC4, storage),
+            self_table_info: mk("self_table_info", 16, U::UNIFORM | U::COPY_DST),
             x_backup: mk("x_backup", n * VEC4, storage),
             v_backup: mk("v_backup", n * VEC4, storage),
             state_backup: mk("state_backup", STATE_BYTES, storage),
@@ -190,6 +248,16 @@ struct Pipelines {
     extrapolate: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
     ramp: wgpu::ComputePipeline,
+    mesh_lerp: wgpu::ComputePipeline,
+    mesh_count: wgpu::ComputePipeline,
+    mesh_scatter: wgpu::ComputePipeline,
+    hash_scan: wgpu::ComputePipeline,
+    hash_sort: wgpu::ComputePipeline,
+    resolve_mesh: wgpu::ComputePipeline,
+    self_count: wgpu::ComputePipeline,
+    self_scatter: wgpu::ComputePipeline,
+    self_gather: wgpu::ComputePipeline,
+    self_apply: wgpu::ComputePipeline,
 }
 
 struct BindGroups {
@@ -202,6 +270,18 @@ struct BindGroups {
     extrapolate: wgpu::BindGroup,
     finish: wgpu::BindGroup,
     ramp: wgpu::BindGroup,
+    mesh_lerp: wgpu::BindGroup,
+    mesh_count: wgpu::BindGroup,
+    mesh_scatter: wgpu::BindGroup,
+    mesh_scan: wgpu::BindGroup,
+    mesh_sort: wgpu::BindGroup,
+    resolve_mesh: wgpu::BindGroup,
+    self_count: wgpu::BindGroup,
+    self_scatter: wgpu::BindGroup,
+    self_scan: wgpu::BindGroup,
+    self_sort: wgpu::BindGroup,
+    self_gather: wgpu::BindGroup,
+    self_apply: wgpu::BindGroup,
 }
 
 /// What the current upload was made for.
@@ -210,6 +290,16 @@ struct Uploaded {
     n_tris: usize,
     n_curved: usize,
     n_colliders: usize,
+    n_meshes: usize,
+    n_mesh_verts: usize,
+    n_mesh_tris: usize,
+    mesh_buckets: usize,
+    /// Per mesh collider: first vertex in the `mverts` sections.
+    mesh_vert_off: Vec<u32>,
+    /// The per-frame uniform as uploaded (moving flags and 1/dt are rewritten per frame).
+    meshes: Meshes,
+    self_enabled: bool,
+    self_buckets: usize,
     colours: Vec<ColourRange>,
     h: f32,
     rho: f32,
@@ -226,6 +316,8 @@ pub struct GpuSolver {
     binds: Option<BindGroups>,
     uploaded: Option<Uploaded>,
     dirty: bool,
+    /// The collider hash on the GPU is built for the current collider positions.
+    mesh_hash_valid: bool,
     /// Errors wgpu reports asynchronously (validation, out of memory, device lost).
     errors: Arc<Mutex<Option<String>>>,
 }
@@ -329,11 +421,32 @@ impl GpuSolver {
             extrapolate: compile(&device, "extrapolate", chebyshev::SOURCE, chebyshev::EXTRAPOLATE_ENTRY),
             finish: compile(&device, "finish", finish::SOURCE, finish::ENTRY),
             ramp: compile(&device, "ramp", ramp::SOURCE, ramp::ENTRY),
+            mesh_lerp: compile(&device, "mesh_lerp", mesh_hash::SOURCE, mesh_hash::LERP_ENTRY),
+            mesh_count: compile(&device, "mesh_count", mesh_hash::SOURCE, mesh_hash::COUNT_ENTRY),
+            mesh_scatter: compile(&device, "mesh_scatter", mesh_hash::SOURCE, mesh_hash::SCATTER_ENTRY),
+            hash_scan: compile(&device, "hash_scan", hash::SOURCE, hash::SCAN_ENTRY),
+            hash_sort: compile(&device, "hash_sort", hash::SOURCE, hash::SORT_ENTRY),
+            resolve_mesh: compile(&device, "resolve_mesh", resolve_mesh::SOURCE, resolve_mesh::ENTRY),
+            self_count: compile(&device, "self_count", self_collide::SOURCE, self_collide::COUNT_ENTRY),
+            self_scatter: compile(&device, "self_scatter", self_collide::SOURCE, self_collide::SCATTER_ENTRY),
+            self_gather: compile(&device, "self_gather", self_collide::SOURCE, self_collide::GATHER_ENTRY),
+            self_apply: compile(&device, "self_apply", self_collide::SOURCE, self_collide::APPLY_ENTRY),
         };
         if let Some(e) = pollster::block_on(device.pop_error_scope()) {
             return Err(format!("compiling the shaders failed on {}: {e}", info.name));
         }
-        Ok(Self { device, queue, info, pipelines, buffers: None, binds: None, uploaded: None, dirty: true, errors })
+        Ok(Self {
+            device,
+            queue,
+            info,
+            pipelines,
+            buffers: None,
+            binds: None,
+            uploaded: None,
+            dirty: true,
+            mesh_hash_valid: false,
+            errors,
+        })
     }
 
     /// The adapter in use (name, backend, device type, driver).
@@ -365,10 +478,46 @@ impl GpuSolver {
         }
         // One dimension of dispatches covers 65535 workgroups of 64.
         let m = view.model;
-        if view.x.len() > 65_535 * 64 || m.triangles.len() > 65_535 * 64 || m.slots.curved.len() > 65_535 * 64 {
-            return Some(format!("more than {} particles or triangles", 65_535 * 64));
+        const DISPATCH: usize = 65_535 * 64;
+        if view.x.len() > DISPATCH || m.triangles.len() > DISPATCH || m.slots.curved.len() > DISPATCH {
+            return Some(format!("more than {DISPATCH} particles or triangles"));
+        }
+        let meshes = &view.collide.meshes;
+        if meshes.len() > MAX_MESHES {
+            return Some(format!("more than {MAX_MESHES} mesh colliders ({})", meshes.len()));
+        }
+        let tris: usize = meshes.iter().map(|m| m.tris.len()).sum();
+        let verts: usize = meshes.iter().map(|m| m.next.len()).sum();
+        let buckets: usize = meshes.iter().map(|m| buckets_for(m.tris.len())).sum();
+        if tris > DISPATCH || verts > DISPATCH || buckets > DISPATCH || buckets_for(view.x.len()) > DISPATCH {
+            return Some(format!("more than {DISPATCH} collider vertices, triangles or hash buckets"));
         }
         None
+    }
+
+    /// Upper bound on the insertions of the colliders' hash at any substep of the coming
+    /// frame: per triangle, the cells of its padded AABB, whose extent along each axis is at
+    /// most the larger of its extents at the frame's two ends (linear interpolation).
+    fn mesh_entry_bound(meshes: &[MeshCollider]) -> usize {
+        let mut total = 0usize;
+        for m in meshes {
+            let l = m.cell;
+            for t in &m.tris {
+                let mut cells = 1usize;
+                for k in 0..3 {
+                    let mut e = 0.0f32;
+                    for p in [&m.prev, &m.next, &m.cur] {
+                        let v = t.map(|i| p[i as usize][k]);
+                        e = e.max(v[0].max(v[1]).max(v[2]) - v[0].min(v[1]).min(v[2]));
+                    }
+                    // An interval of length e covers at most floor(e/l) + 2 cells; the margin
+                    // covers rounding of the padded bounds.
+                    cells *= ((e + 2.0 * PAD * l) / l * (1.0 + 1e-4)) as usize + 2;
+                }
+                total += cells;
+            }
+        }
+        total
     }
 
     /// Uploads the model and state (reusing buffers that are large enough).
@@ -422,6 +571,70 @@ impl GpuSolver {
         p.curved_off = base(&mut idx, &c_off);
         p.curved_verts = base(&mut idx, &c_verts);
 
+        // Mesh colliders: global triangle vertices and levels, per-collider layout.
+        let col = view.collide;
+        let mut meshes = Meshes::zeroed();
+        let (mut tri_idx, mut tri_levels, mut mesh_vert_off) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut voff, mut toff, mut boff) = (0u32, 0u32, 0u32);
+        for (c, mc) in col.meshes.iter().enumerate() {
+            let nb = buckets_for(mc.tris.len()) as u32;
+            meshes.m[c] = MeshInfo {
+                cell: mc.cell,
+                vert_off: voff,
+                n_verts: mc.next.len() as u32,
+                tri_off: toff,
+                n_tris: mc.tris.len() as u32,
+                bucket_off: boff,
+                mask: nb - 1,
+                rule: match mc.opts.rule {
+                    InsertionRule::Paper => collide_common::RULE_PAPER,
+                    InsertionRule::PaperOrPlane => collide_common::RULE_PAPER_OR_PLANE,
+                    InsertionRule::Aabb => collide_common::RULE_AABB,
+                },
+                moving: mc.moving as u32,
+                static_friction: mc.opts.static_friction,
+                kinetic_friction: mc.opts.kinetic_friction,
+                _pad0: 0,
+            };
+            mesh_vert_off.push(voff);
+            tri_idx.extend(mc.tris.iter().flat_map(|t| t.map(|v| v + voff)));
+            tri_levels.extend(mc.tri_level.iter().map(|&l| l as u32));
+            voff += mc.next.len() as u32;
+            toff += mc.tris.len() as u32;
+            boff += nb;
+        }
+        let (n_mesh_verts, n_mesh_tris, mesh_buckets) = (voff as usize, toff as usize, boff as usize);
+        let mesh_entries = if col.meshes.is_empty() { 0 } else { Self::mesh_entry_bound(&col.meshes) * 5 / 4 };
+        meshes.entries_off = boff + 1;
+        p.n_meshes = col.meshes.len() as u32;
+        p.n_mesh_verts = voff;
+        p.n_mesh_tris = toff;
+        p.mesh_tris = base(&mut idx, &tri_idx);
+        p.tri_levels = base(&mut idx, &tri_levels);
+        let levels: Vec<u32> = col.levels.iter().map(|&l| l as u32).collect();
+        p.particle_levels = base(&mut idx, &levels);
+        let pinned: Vec<u32> = m.pinned.iter().map(|&b| b as u32).collect();
+        p.pinned = base(&mut idx, &pinned);
+        // Self-collision: the CPU's exclusion set (it skips the pass when that cannot be built).
+        let excl = if col.self_settings.enabled {
+            crate::solver::collide::self_collide::build_exclusions(m).ok()
+        } else {
+            None
+        };
+        let self_enabled = excl.is_some();
+        if let Some(ex) = &excl {
+            let (off, nbr) = ex.csr();
+            p.excl_off = base(&mut idx, off);
+            p.excl_nbr = base(&mut idx, nbr);
+        }
+        let self_buckets = if self_enabled { buckets_for(n) } else { 0 };
+        p.self_enabled = self_enabled as u32;
+        p.self_radius = view.self_radius;
+        p.self_cell = view.self_cell;
+        p.self_mu_s = col.self_settings.static_friction;
+        p.self_mu_k = col.self_settings.kinetic_friction;
+        p.self_mask = self_buckets.max(1) as u32 - 1;
+
         let mut fdata: Vec<f32> = Vec::new();
         let fbase = |f: &mut Vec<f32>, data: &[f32]| {
             let b = f.len() as u32;
@@ -441,6 +654,11 @@ impl GpuSolver {
         p.seam_coefs = fbase(&mut fdata, &sp.coefs);
         p.curved_coefs = fbase(&mut fdata, &c_coefs);
         p.curved_wr = fbase(&mut fdata, &c_wr);
+        if let Some((fs, fk)) = &col.friction {
+            let pairs: Vec<f32> = fs.iter().zip(fk).flat_map(|(&a, &b)| [a, b]).collect();
+            p.has_friction = 1;
+            p.friction = fbase(&mut fdata, &pairs);
+        }
         p.n_curved = lay.curved.len() as u32;
         let colliders: Vec<Collider> = view
             .colliders
@@ -484,6 +702,7 @@ impl GpuSolver {
         p.closed_fraction = s.ramp.closed_fraction;
         p.release_time = s.ramp.release_time;
         p.has_seams = (!sp.is_empty()) as u32;
+        p.substeps = s.substeps;
 
         let need = Capacities {
             n,
@@ -492,6 +711,11 @@ impl GpuSolver {
             fdata: fdata.len(),
             colours: colours.len(),
             colliders: colliders.len(),
+            mesh_verts: n_mesh_verts,
+            mesh_tris: n_mesh_tris,
+            mesh_buckets,
+            mesh_entries,
+            self_buckets,
         };
         let stride = self.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
         let realloc = self.buffers.as_ref().is_none_or(|b| !b.caps.fits(&need));
@@ -532,6 +756,34 @@ impl GpuSolver {
         if !fdata.is_empty() {
             q.write_buffer(&b.fdata, 0, bytemuck::cast_slice(&fdata));
         }
+        if n_mesh_verts > 0 {
+            // Sections: previous, next, this substep's positions, velocities, then normals.
+            let mut mv = vec![[0.0f32; 4]; 4 * n_mesh_verts];
+            let v4 = |p: [f32; 3]| [p[0], p[1], p[2], 0.0];
+            for (c, mc) in col.meshes.iter().enumerate() {
+                let o = mesh_vert_off[c] as usize;
+                for (k, v) in mc.next.iter().enumerate() {
+                    mv[o + k] = v4(mc.prev[k]);
+                    mv[n_mesh_verts + o + k] = v4(*v);
+                    mv[2 * n_mesh_verts + o + k] = v4(mc.cur[k]);
+                    mv[3 * n_mesh_verts + o + k] = v4(mc.vel[k].into());
+                }
+            }
+            q.write_buffer(&b.mverts, 0, bytemuck::cast_slice(&mv));
+            q.write_buffer(&b.mcounts, 0, bytemuck::cast_slice(&vec![0u32; mesh_buckets]));
+        }
+        let table = |n_buckets: usize, n_entries: usize| TableInfo {
+            n_buckets: n_buckets as u32,
+            n_entries: n_entries as u32,
+            ..Default::default()
+        };
+        q.write_buffer(&b.mesh_table_info, 0, bytemuck::bytes_of(&table(mesh_buckets, mesh_entries)));
+        q.write_buffer(&b.self_table_info, 0, bytemuck::bytes_of(&table(self_buckets, n)));
+        q.write_buffer(&b.meshes, 0, bytemuck::bytes_of(&meshes));
+        if self_enabled {
+            q.write_buffer(&b.scounts, 0, bytemuck::cast_slice(&vec![0u32; self_buckets]));
+        }
+        q.write_buffer(&b.sdelta, 0, bytemuck::cast_slice(&vec![[0.0f32; 4]; n]));
         let mut cbytes = vec![0u8; colours.len().max(1) * stride as usize];
         for (c, r) in colours.iter().enumerate() {
             let o = c * stride as usize;
@@ -576,6 +828,38 @@ impl GpuSolver {
                 extrapolate: bind(d, &pl.extrapolate, "extrapolate", &chebyshev::extrapolate_entries(b)),
                 finish: bind(d, &pl.finish, "finish", &finish::entries(b)),
                 ramp: bind(d, &pl.ramp, "ramp", &ramp::entries(b)),
+                mesh_lerp: bind(d, &pl.mesh_lerp, "mesh_lerp", &mesh_hash::lerp_entries(b)),
+                mesh_count: bind(d, &pl.mesh_count, "mesh_count", &mesh_hash::count_entries(b)),
+                mesh_scatter: bind(d, &pl.mesh_scatter, "mesh_scatter", &mesh_hash::scatter_entries(b)),
+                mesh_scan: bind(
+                    d,
+                    &pl.hash_scan,
+                    "mesh_scan",
+                    &hash::entries(&b.mesh_table_info, &b.mcounts, &b.mtable),
+                ),
+                mesh_sort: bind(
+                    d,
+                    &pl.hash_sort,
+                    "mesh_sort",
+                    &hash::entries(&b.mesh_table_info, &b.mcounts, &b.mtable),
+                ),
+                resolve_mesh: bind(d, &pl.resolve_mesh, "resolve_mesh", &resolve_mesh::entries(b)),
+                self_count: bind(d, &pl.self_count, "self_count", &self_collide::count_entries(b)),
+                self_scatter: bind(d, &pl.self_scatter, "self_scatter", &self_collide::scatter_entries(b)),
+                self_scan: bind(
+                    d,
+                    &pl.hash_scan,
+                    "self_scan",
+                    &hash::entries(&b.self_table_info, &b.scounts, &b.stable),
+                ),
+                self_sort: bind(
+                    d,
+                    &pl.hash_sort,
+                    "self_sort",
+                    &hash::entries(&b.self_table_info, &b.scounts, &b.stable),
+                ),
+                self_gather: bind(d, &pl.self_gather, "self_gather", &self_collide::gather_entries(b)),
+                self_apply: bind(d, &pl.self_apply, "self_apply", &self_collide::apply_entries(b)),
             });
         }
         self.uploaded = Some(Uploaded {
@@ -583,12 +867,21 @@ impl GpuSolver {
             n_tris: nt,
             n_curved: lay.curved.len(),
             n_colliders: colliders.len(),
+            n_meshes: col.meshes.len(),
+            n_mesh_verts,
+            n_mesh_tris,
+            mesh_buckets,
+            mesh_vert_off,
+            meshes,
+            self_enabled,
+            self_buckets,
             colours,
             h,
             rho: view.rho,
             method: s.method,
         });
         self.dirty = false;
+        self.mesh_hash_valid = false;
         Ok(())
     }
 
@@ -604,12 +897,33 @@ impl GpuSolver {
         let iterations = sim.settings().iterations;
         let h = dt / substeps as f32;
         let stale = self.uploaded.as_ref().is_none_or(|u| u.h != h || u.method != sim.settings().method);
-        if self.dirty || stale {
+        let mut upload = self.dirty || stale;
+        if upload {
             if !self.dirty {
                 // A new substep length re-uploads from the CPU copy: bring its velocities up
                 // to date first (the GPU's are the current ones).
                 self.sync_velocities(sim)?;
             }
+            // Refuse before the colliders' frame begins, so the CPU runs the whole frame.
+            if let Some(why) = Self::unsupported(&sim.gpu_view(h)) {
+                self.dirty = true;
+                return Err(GpuFailure::Unsupported(why));
+            }
+        }
+        // The positions given since the last frame become this frame's end; from here on a
+        // failure hands the begun frame to the CPU (`Simulation::step` does not begin it again).
+        sim.begin_backend_frame(dt);
+        let meshes = &sim.collide.meshes;
+        let moving = meshes.iter().any(|m| m.moving);
+        if !upload && moving {
+            let cap = self.buffers.as_ref().map_or(0, |b| b.caps.mesh_entries);
+            if Self::mesh_entry_bound(meshes) > cap {
+                // The colliders deformed beyond the hash's capacity: re-upload with room.
+                self.sync_velocities(sim)?;
+                upload = true;
+            }
+        }
+        if upload {
             let view = sim.gpu_view(h);
             self.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let r = self.upload(&view);
@@ -622,9 +936,28 @@ impl GpuSolver {
             }
             r?;
         }
-        let (Some(b), Some(g), Some(u)) = (&self.buffers, &self.binds, &self.uploaded) else {
+        let (Some(b), Some(g), Some(u)) = (&self.buffers, &self.binds, &mut self.uploaded) else {
             return Err(GpuFailure::Device("nothing uploaded".into()));
         };
+        if u.n_meshes > 0 {
+            // Collider positions go up once per frame (only for colliders that move), with
+            // the per-frame uniform; the GPU interpolates them per substep.
+            let nv = u.n_mesh_verts as u64;
+            for (c, m) in sim.collide.meshes.iter().enumerate() {
+                u.meshes.m[c].moving = m.moving as u32;
+                if m.moving && !upload {
+                    let next: Vec<[f32; 4]> = m.next.iter().map(|p| [p[0], p[1], p[2], 0.0]).collect();
+                    let off = (nv + u.mesh_vert_off[c] as u64) * VEC4;
+                    self.queue.write_buffer(&b.mverts, off, bytemuck::cast_slice(&next));
+                }
+            }
+            u.meshes.inv_dt = 1.0 / dt;
+            self.queue.write_buffer(&b.meshes, 0, bytemuck::bytes_of(&u.meshes));
+        }
+        // Build the colliders' hash every substep while one moves, else once after an upload.
+        let rebuild_each_substep = u.n_meshes > 0 && moving;
+        let mut rebuild_first = u.n_meshes > 0 && !self.mesh_hash_valid;
+        let rebuilds = if rebuild_each_substep { substeps } else { rebuild_first as u32 };
         let n = u.n;
         let accelerate = u.method == Method::Chebyshev;
         let pl = &self.pipelines;
@@ -642,8 +975,27 @@ impl GpuSolver {
                 pass.set_pipeline(&pl.predict);
                 pass.set_bind_group(0, &g.predict, &[]);
                 pass.dispatch_workgroups(groups(n, predict::WORKGROUP), 1, 1);
+                if rebuild_each_substep || rebuild_first {
+                    rebuild_first = false;
+                    let wg = mesh_hash::WORKGROUP;
+                    pass.set_pipeline(&pl.mesh_lerp);
+                    pass.set_bind_group(0, &g.mesh_lerp, &[]);
+                    pass.dispatch_workgroups(groups(u.n_mesh_verts, wg), 1, 1);
+                    pass.set_pipeline(&pl.mesh_count);
+                    pass.set_bind_group(0, &g.mesh_count, &[]);
+                    pass.dispatch_workgroups(groups(u.n_mesh_tris, wg), 1, 1);
+                    pass.set_pipeline(&pl.hash_scan);
+                    pass.set_bind_group(0, &g.mesh_scan, &[]);
+                    pass.dispatch_workgroups(1, 1, 1);
+                    pass.set_pipeline(&pl.mesh_scatter);
+                    pass.set_bind_group(0, &g.mesh_scatter, &[]);
+                    pass.dispatch_workgroups(groups(u.n_mesh_tris, wg), 1, 1);
+                    pass.set_pipeline(&pl.hash_sort);
+                    pass.set_bind_group(0, &g.mesh_sort, &[]);
+                    pass.dispatch_workgroups(groups(u.mesh_buckets, hash::WORKGROUP), 1, 1);
+                }
                 for _ in 0..iterations {
-                    if u.n_colliders > 0 {
+                    if u.n_colliders > 0 || u.n_meshes > 0 {
                         pass.set_pipeline(&pl.detect);
                         pass.set_bind_group(0, &g.detect, &[]);
                         pass.dispatch_workgroups(groups(n, contacts::WORKGROUP), 1, 1);
@@ -669,6 +1021,32 @@ impl GpuSolver {
                         pass.set_bind_group(0, &g.extrapolate, &[]);
                         pass.dispatch_workgroups(groups(n, chebyshev::WORKGROUP), 1, 1);
                     }
+                    if u.self_enabled {
+                        let wg = self_collide::WORKGROUP;
+                        pass.set_pipeline(&pl.self_count);
+                        pass.set_bind_group(0, &g.self_count, &[]);
+                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
+                        pass.set_pipeline(&pl.hash_scan);
+                        pass.set_bind_group(0, &g.self_scan, &[]);
+                        pass.dispatch_workgroups(1, 1, 1);
+                        pass.set_pipeline(&pl.self_scatter);
+                        pass.set_bind_group(0, &g.self_scatter, &[]);
+                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
+                        pass.set_pipeline(&pl.hash_sort);
+                        pass.set_bind_group(0, &g.self_sort, &[]);
+                        pass.dispatch_workgroups(groups(u.self_buckets, hash::WORKGROUP), 1, 1);
+                        pass.set_pipeline(&pl.self_gather);
+                        pass.set_bind_group(0, &g.self_gather, &[]);
+                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
+                        pass.set_pipeline(&pl.self_apply);
+                        pass.set_bind_group(0, &g.self_apply, &[]);
+                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
+                    }
+                }
+                if u.n_meshes > 0 {
+                    pass.set_pipeline(&pl.resolve_mesh);
+                    pass.set_bind_group(0, &g.resolve_mesh, &[]);
+                    pass.dispatch_workgroups(groups(n, resolve_mesh::WORKGROUP), 1, 1);
                 }
                 pass.set_pipeline(&pl.finish);
                 pass.set_bind_group(0, &g.finish, &[]);
@@ -680,11 +1058,18 @@ impl GpuSolver {
         }
         enc.copy_buffer_to_buffer(&b.x, 0, &b.readback, 0, xbytes);
         enc.copy_buffer_to_buffer(&b.state, 0, &b.readback, xbytes, STATE_BYTES);
+        let (n_colours, rho, n_tris_total) = (u.colours.len(), u.rho, u.n_mesh_tris);
+        let has_meshes = u.n_meshes > 0;
         self.queue.submit([enc.finish()]);
         let bytes = self.read(xbytes + STATE_BYTES)?;
         let (xs, st) = bytes.split_at(xbytes as usize);
         let x: &[[f32; 4]] = bytemuck::cast_slice(xs);
         let state: StepState = *bytemuck::from_bytes(st);
+        if has_meshes {
+            self.mesh_hash_valid = true;
+        }
+        // As on the CPU, the colliders' frame has happened whatever the outcome below.
+        sim.end_backend_frame();
         if x.iter().any(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite())) {
             self.restore_backup(xbytes)?;
             return Err(GpuFailure::Step(TailorError::Diverged {
@@ -699,13 +1084,21 @@ impl GpuSolver {
             substeps,
             iterations: substeps * iterations,
             residual: state.residual,
-            colours: u.colours.len(),
-            rho: if accelerate { u.rho } else { 0.0 },
+            colours: n_colours,
+            rho: if accelerate { rho } else { 0.0 },
             damping: Ramp { phase }.damping(sim.settings()),
             ramp_phase: phase,
             seam_gap_max: state.gap_max,
             seam_closed_fraction: state.closed_fraction,
             contacts: state.contacts as usize,
+            collision: CollisionStats {
+                rebuilds,
+                reuses: if n_tris_total > 0 { substeps - rebuilds } else { 0 },
+                triangles_kept: n_tris_total,
+                mesh_contacts: state.mesh_contacts as usize,
+                self_pairs: state.self_pairs as usize,
+                ..Default::default()
+            },
             backend: ActiveBackend::Gpu,
             warning: None,
             ..Default::default()
@@ -772,11 +1165,27 @@ impl GpuSolver {
         Ok(())
     }
 
-    /// Runs one frame's worth of dispatches (as many as `step` records for these counts) of
-    /// one workgroup each and returns its wall time: the fixed cost of a frame, for benchmarks.
+    /// Dispatches one frame of `substeps` × `iterations` records for the uploaded scene (the
+    /// collider hash counted as built every substep, i.e. a moving collider).
+    pub fn dispatches_per_frame(&self, substeps: u32, iterations: u32) -> usize {
+        let Some(u) = &self.uploaded else { return 0 };
+        let per_iteration = (u.n_colliders > 0 || u.n_meshes > 0) as usize
+            + 1
+            + (u.n_curved > 0) as usize
+            + u.colours.len()
+            + 1
+            + (u.method == Method::Chebyshev) as usize
+            + if u.self_enabled { 6 } else { 0 };
+        let per_substep = 1 + if u.n_meshes > 0 { 5 + 1 } else { 0 } + iterations as usize * per_iteration + 2;
+        substeps as usize * per_substep
+    }
+
+    /// Runs one frame's worth of dispatches ([`GpuSolver::dispatches_per_frame`]) of one
+    /// workgroup each and returns its wall time: the fixed cost of a frame, for benchmarks.
     /// It scribbles on the GPU state, so the next step uploads again from the simulation
     /// (call [`GpuSolver::sync_velocities`] first to keep the velocities).
-    pub fn dispatch_overhead(&mut self, substeps: u32, iterations: u32, colours: usize) -> Result<f64, GpuFailure> {
+    pub fn dispatch_overhead(&mut self, substeps: u32, iterations: u32) -> Result<f64, GpuFailure> {
+        let count = self.dispatches_per_frame(substeps, iterations);
         let (Some(_), Some(g)) = (&self.buffers, &self.binds) else {
             return Err(GpuFailure::Device("nothing uploaded".into()));
         };
@@ -789,8 +1198,7 @@ impl GpuSolver {
             // uniform, a single workgroup per dispatch measures launch cost only.
             pass.set_pipeline(&pl.extrapolate);
             pass.set_bind_group(0, &g.extrapolate, &[]);
-            let per_substep = 2 + iterations as usize * (3 + colours) + 2;
-            for _ in 0..substeps as usize * per_substep {
+            for _ in 0..count {
                 pass.dispatch_workgroups(1, 1, 1);
             }
         }

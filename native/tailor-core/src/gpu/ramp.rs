@@ -6,7 +6,7 @@ pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("ramp
 pub const ENTRY: &str = "main";
 
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (1, &b.state), (2, &b.idx), (3, &b.fdata), (4, &b.x), (5, &b.contacts)]
+    vec![(0, &b.params), (1, &b.state), (2, &b.idx), (3, &b.fdata), (4, &b.x), (5, &b.contacts), (6, &b.sdelta)]
 }
 
 #[cfg(test)]

@@ -1,4 +1,4 @@
-// Seam gaps, the contact count, and the seam-closing ramp (port of `Simulation::seam_gaps` and `Ramp::advance`),
+// Seam gaps, the contact counts, the substep counter, and the seam-closing ramp (port of `Simulation::seam_gaps` and `Ramp::advance`),
 // one workgroup: the largest sewn-pair gap and the fraction under the threshold decide the
 // ramp's next phase, so no per-substep readback is needed.
 
@@ -6,11 +6,14 @@
 @group(0) @binding(3) var<storage, read> fdata: array<f32>;
 @group(0) @binding(4) var<storage, read> x: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> contacts: array<Contact>;
+@group(0) @binding(6) var<storage, read> sdelta: array<vec4<f32>>;
 
 const REDUCE: u32 = 256u;
 var<workgroup> gap_max: array<f32, 256>;
 var<workgroup> closed: array<u32, 256>;
 var<workgroup> touching: array<u32, 256>;
+var<workgroup> meshed: array<u32, 256>;
+var<workgroup> pairs: array<u32, 256>;
 
 @compute @workgroup_size(256)
 fn main(@builtin(local_invocation_index) li: u32) {
@@ -28,18 +31,29 @@ fn main(@builtin(local_invocation_index) li: u32) {
         c += select(0u, 1u, g < params.gap_threshold);
     }
     var tc = 0u;
+    var mc = 0u;
+    var pc = 0u;
     for (var i = li; i < params.n; i += REDUCE) {
-        tc += select(0u, 1u, contacts[i].weight > 0.0);
+        let ct = contacts[i];
+        tc += select(0u, 1u, ct.weight > 0.0);
+        mc += select(0u, 1u, is_mesh(ct.collider));
+        if (params.self_enabled != 0u) {
+            pc += u32(sdelta[i].w);
+        }
     }
     gap_max[li] = m;
     closed[li] = c;
     touching[li] = tc;
+    meshed[li] = mc;
+    pairs[li] = pc;
     workgroupBarrier();
     for (var s = REDUCE / 2u; s > 0u; s >>= 1u) {
         if (li < s) {
             gap_max[li] = max(gap_max[li], gap_max[li + s]);
             closed[li] += closed[li + s];
             touching[li] += touching[li + s];
+            meshed[li] += meshed[li + s];
+            pairs[li] += pairs[li + s];
         }
         workgroupBarrier();
     }
@@ -53,6 +67,10 @@ fn main(@builtin(local_invocation_index) li: u32) {
     state.gap_max = gap_max[0];
     state.closed_fraction = frac;
     state.contacts = touching[0];
+    state.mesh_contacts = meshed[0];
+    // Each overlapping pair was counted by both of its particles.
+    state.self_pairs = pairs[0] / 2u;
+    state.substep = (state.substep + 1u) % params.substeps;
     // `Ramp::advance`.
     let h = params.h;
     if (params.has_seams == 0u) {

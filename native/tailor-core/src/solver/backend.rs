@@ -82,6 +82,25 @@ impl Solver {
         }
     }
 
+    /// Chooses the backend again (the simulation's state is kept: GPU velocities are brought
+    /// back first). A previous warning is dropped; a new one says why the GPU is not used.
+    pub fn set_backend(&mut self, options: SolverOptions) {
+        self.sync_from_gpu();
+        #[cfg(feature = "gpu")]
+        {
+            self.gpu = None;
+        }
+        self.warning = None;
+        self.choose(options);
+    }
+
+    /// Quality metrics of the current state (see [`Simulation::metrics`]), with the
+    /// velocities brought back from the GPU first.
+    pub fn metrics(&mut self, collider: Option<super::collide::ColliderId>) -> Result<super::collide::QualityMetrics> {
+        self.sync_from_gpu();
+        self.sim.metrics(collider)
+    }
+
     /// The backend the next step will use.
     pub fn active_backend(&self) -> ActiveBackend {
         #[cfg(feature = "gpu")]
@@ -167,6 +186,13 @@ impl Solver {
             g.mark_dirty();
         }
         r
+    }
+
+    /// The positions of a mesh collider at the end of the next step (the per-frame input of
+    /// an animated character): on the GPU only these go up, once per frame, with no
+    /// re-upload of the model (unlike [`Solver::edit`]).
+    pub fn set_collider_positions(&mut self, id: super::collide::ColliderId, positions: &[[f32; 3]]) -> Result<()> {
+        self.sim.set_collider_positions(id, positions)
     }
 
     /// Gives the simulation back (with current velocities).

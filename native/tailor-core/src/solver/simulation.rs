@@ -326,7 +326,9 @@ impl Simulation {
         let substeps = self.settings.substeps;
         let h = dt / substeps as f32;
         let mut stats = StepStats { substeps, ..Default::default() };
-        self.collide.begin_frame(dt);
+        if !std::mem::take(&mut self.collide.frame_begun) {
+            self.collide.begin_frame(dt);
+        }
         for k in 0..substeps {
             self.collide.set_substep(k, substeps);
             let (out, t) = self.substep(h);

@@ -27,6 +27,12 @@ pub struct SolverView<'a> {
     pub colliders: &'a [ImplicitCollider],
     /// Collision thickness, metres.
     pub thickness: f32,
+    /// Mesh colliders, levels, friction and self-collision settings.
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
+    pub(crate) collide: &'a super::collide::Collisions,
+    /// Self-collision sphere radius and hash cell side in effect, metres.
+    pub self_radius: f32,
+    pub self_cell: f32,
 }
 
 impl Simulation {
@@ -34,6 +40,8 @@ impl Simulation {
     /// Chebyshev's measured radius: exactly what the CPU step would use) and exposes it.
     pub fn gpu_view(&mut self, h: f32) -> SolverView<'_> {
         self.prepare(h);
+        let self_radius = self.self_collision_radius();
+        let self_cell = (self.model.mesh.mean_edge_length() as f32).max(2.0 * self_radius);
         let rho = match self.settings.method {
             super::settings::Method::Chebyshev => self.cheb.rho(&self.settings.chebyshev),
             _ => 0.0,
@@ -50,6 +58,9 @@ impl Simulation {
             ramp_phase: self.ramp.phase,
             colliders: &self.colliders,
             thickness: self.thickness,
+            collide: &self.collide,
+            self_radius,
+            self_cell,
         }
     }
 
@@ -64,6 +75,22 @@ impl Simulation {
         }
         self.ramp.phase = ramp;
         self.time += elapsed;
+    }
+
+    /// Begins a frame of `dt` seconds for the mesh colliders on behalf of another backend
+    /// (the positions given since the last frame become the frame's end); if that backend
+    /// then hands the frame to the CPU, the CPU step does not begin it again.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn begin_backend_frame(&mut self, dt: f32) {
+        self.collide.begin_frame(dt);
+        self.collide.frame_begun = true;
+    }
+
+    /// The other backend finished the frame: colliders at their frame-end positions.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn end_backend_frame(&mut self) {
+        self.collide.frame_begun = false;
+        self.collide.end_frame_elsewhere();
     }
 
     /// Takes back velocities computed elsewhere.

@@ -63,8 +63,8 @@ pub(crate) struct MeshCollider {
     pub opts: MeshColliderOptions,
     pub cell: f32,
     /// Positions at the start and end of the current frame.
-    prev: Vec<[f32; 3]>,
-    next: Vec<[f32; 3]>,
+    pub prev: Vec<[f32; 3]>,
+    pub next: Vec<[f32; 3]>,
     pending: Option<Vec<[f32; 3]>>,
     /// Positions of the current substep.
     pub cur: Vec<[f32; 3]>,
@@ -137,7 +137,7 @@ fn mean_edge(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> f32 {
 /// floor at z = 0 with cells [−l, 0) and [0, l)) is then also in the cell just behind it, where
 /// a particle lands after crossing it within one substep. Without the pad such a particle
 /// finds an empty cell and falls through (`tests/collision_mesh.rs`, the two-triangle floor).
-const PAD: f32 = 0.25;
+pub(crate) const PAD: f32 = 0.25;
 
 /// [`keeps_cell`] with the plane test widened by `pad`.
 #[inline]
@@ -207,6 +207,16 @@ impl MeshCollider {
         check_cell_span(p, &self.tris, self.cell)?;
         self.pending = Some(p.to_vec());
         Ok(())
+    }
+
+    /// After a frame run by another backend: this collider's positions are the frame's end
+    /// (substep α = 1), as the CPU's last `prepare` leaves them; its hash is stale.
+    #[cfg(feature = "gpu")]
+    pub fn end_frame_elsewhere(&mut self) {
+        if self.moving {
+            self.cur.clone_from(&self.next);
+            self.built_for = None;
+        }
     }
 
     /// Per-vertex (length = vertices) or per-triangle (length = triangles) levels.

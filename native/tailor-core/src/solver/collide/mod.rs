@@ -108,9 +108,9 @@ pub struct QualityMetrics {
 /// Collision state of a simulation.
 #[derive(Debug, Default)]
 pub(crate) struct Collisions {
-    meshes: Vec<MeshCollider>,
-    levels: Vec<i32>,
-    friction: Option<(Vec<f32>, Vec<f32>)>,
+    pub(crate) meshes: Vec<MeshCollider>,
+    pub(crate) levels: Vec<i32>,
+    pub(crate) friction: Option<(Vec<f32>, Vec<f32>)>,
     pub self_settings: SelfCollisionSettings,
     self_state: SelfCollide,
     pub skips: CollisionSkips,
@@ -120,6 +120,9 @@ pub(crate) struct Collisions {
     alpha: f32,
     frame_dt: f32,
     pub stats: CollisionStats,
+    /// Another backend began this frame (`begin_frame`) and then handed it to the CPU: the
+    /// CPU step must not begin it again.
+    pub(crate) frame_begun: bool,
 }
 
 impl Collisions {
@@ -132,6 +135,14 @@ impl Collisions {
         self.frame_dt = dt;
         for m in &mut self.meshes {
             m.begin_frame(dt);
+        }
+    }
+
+    /// After a frame run on another backend: colliders at their frame-end positions.
+    #[cfg(feature = "gpu")]
+    pub fn end_frame_elsewhere(&mut self) {
+        for m in &mut self.meshes {
+            m.end_frame_elsewhere();
         }
     }
 

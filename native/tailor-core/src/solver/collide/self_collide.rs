@@ -103,7 +103,7 @@ fn seam_partners(model: &Model) -> Vec<Vec<u32>> {
     partners
 }
 
-fn build_exclusions(model: &Model) -> Result<ExclusionSet> {
+pub(crate) fn build_exclusions(model: &Model) -> Result<ExclusionSet> {
     let partners = seam_partners(model);
     let mut pairs: Vec<[u32; 2]> = Vec::new();
     for &[a, b, c] in model.mesh.triangles() {

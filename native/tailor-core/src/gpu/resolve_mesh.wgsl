@@ -1,0 +1,63 @@
+// End of substep, mesh colliders (port of `Simulation::resolve_mesh_penetrations`): a
+// particle still behind a mesh collider goes to its target (so no substep ends inside), and
+// every mesh contact of the substep gets Coulomb friction at the position level on its
+// displacement relative to the touched triangle: with d = (x − y)·n (how far the contact
+// pushed it out of free flight), the tangential part of (x − x₀ − v_c·h) is removed when
+// under μs·d, else shortened by μk·d. Runs before `finish` (analytic colliders, velocities).
+
+@group(0) @binding(2) var<storage, read_write> x: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> x_start: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> v: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> contacts: array<Contact>;
+@group(0) @binding(6) var<storage, read> fdata: array<f32>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= params.n || idx[params.pinned + i] != 0u) {
+        return;
+    }
+    var ct = contacts[i];
+    var p = x[i].xyz;
+    let analytic = ct.weight > 0.0 && (ct.collider & MESH_CONTACT) == 0u;
+    let d = deepest_mesh_contact(p, bitcast<i32>(idx[params.particle_levels + i]));
+    if (d.hit.found != 0u && !analytic) {
+        p = d.hit.target_pos;
+        ct.normal = d.hit.normal;
+        ct.collider = MESH_CONTACT | d.collider;
+        ct.tri = d.hit.tri;
+        ct.bary = d.hit.bary;
+    }
+    if (is_mesh(ct.collider)) {
+        let mi = meshes.m[ct.collider & ~MESH_CONTACT];
+        let n = ct.normal;
+        let xs = x_start[i].xyz;
+        // The prediction y as `predict` computed it (contacts never involve pinned particles).
+        let y = xs + v[i].xyz * params.h + params.gravity * (params.h * params.h);
+        let dn = dot(p - y, n);
+        if (dn > 0.0) {
+            var vc = vec3<f32>(0.0);
+            if (mi.moving != 0u) {
+                let gt = mi.tri_off + ct.tri;
+                let vel = 3u * params.n_mesh_verts;
+                vc = mverts[vel + mesh_vertex_index(gt, 0u)].xyz * ct.bary.x
+                    + mverts[vel + mesh_vertex_index(gt, 1u)].xyz * ct.bary.y
+                    + mverts[vel + mesh_vertex_index(gt, 2u)].xyz * ct.bary.z;
+            }
+            let rel = p - xs - vc * params.h;
+            let rel_t = rel - n * dot(rel, n);
+            let lt = length(rel_t);
+            var mu = vec2<f32>(mi.static_friction, mi.kinetic_friction);
+            if (params.has_friction != 0u) {
+                mu = vec2<f32>(fdata[params.friction + 2u * i], fdata[params.friction + 2u * i + 1u]);
+            }
+            if (lt <= mu.x * dn) {
+                p = p - rel_t;
+            } else {
+                p = p - rel_t * min(mu.y * dn / lt, 1.0);
+            }
+        }
+    }
+    x[i] = vec4<f32>(p, 0.0);
+    contacts[i] = ct;
+}

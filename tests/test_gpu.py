@@ -1,0 +1,104 @@
+"""The backend choice through the Python bindings: auto | cpu | gpu, the CPU fallback with a
+warning when no adapter exists (forced with TAILOR_GPU_FORCE_NO_ADAPTER=1), and GPU-vs-CPU
+agreement on a small scene when an adapter exists (Mesa's lavapipe in CI; skipped otherwise)."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import tailor
+from test_collisions import grid, octahedron_sphere
+
+
+def strip(backend="auto", method="gauss_seidel"):
+    """A 0.2 m square cloth (9 x 9) hanging from its top edge."""
+    pos, tris, rest = grid(w=0.2, n=8)
+    pos = np.column_stack([rest[:, 0], np.zeros(len(rest)), rest[:, 1] - 0.2]).astype(np.float32)
+    settings = tailor.Settings(iterations=30, method=method, air_damping=4.0)
+    sim = tailor.Simulation(pos, tris, rest, settings=settings, backend=backend)
+    sim.pin(np.arange(8 * 9, 9 * 9))
+    return sim
+
+
+def gpu_or_skip(sim):
+    if sim.backend != "gpu":
+        pytest.skip(f"no GPU adapter: {sim.backend_warning}")
+    return sim
+
+
+def test_cpu_and_auto_run_on_the_cpu_without_warnings():
+    for backend in ("cpu", "auto"):
+        sim = strip(backend)
+        stats = sim.step(1 / 30)
+        # `auto` takes the GPU only for large scenes on a hardware adapter.
+        assert stats["backend"] == sim.backend == "cpu"
+        assert stats["warning"] is None and sim.backend_warning is None
+        assert stats["adapter"] is None
+
+
+def test_unknown_backend_is_refused():
+    with pytest.raises(tailor.InvalidParameterError, match="backend"):
+        strip("cuda")
+    sim = strip()
+    with pytest.raises(tailor.InvalidParameterError, match="backend"):
+        sim.set_backend("vulkan")
+
+
+def test_forced_no_adapter_falls_back_to_the_cpu_with_a_warning():
+    # The variable is read when the backend is chosen: run in a child so this process keeps
+    # its adapter for the other tests.
+    code = (
+        "import sys; sys.path.insert(0, 'tests');"
+        "from test_gpu import strip;"
+        "sim = strip('gpu'); st = sim.step(1/30);"
+        "print(st['backend'], '|', st['warning'])"
+    )
+    env = dict(os.environ, TAILOR_GPU_FORCE_NO_ADAPTER="1")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True,
+                         cwd=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    backend, warning = out.stdout.strip().split(" | ")
+    assert backend == "cpu"
+    assert "no GPU adapter" in warning and "using the CPU" in warning
+
+
+def test_gpu_matches_the_cpu_on_a_small_scene():
+    sim_gpu = gpu_or_skip(strip("gpu"))
+    assert sim_gpu.adapter
+    sim_cpu = strip("cpu")
+    worst = 0.0
+    for _ in range(10):
+        a = sim_cpu.step(1 / 30)
+        b = sim_gpu.step(1 / 30)
+        assert b["backend"] == "gpu" and b["adapter"] == sim_gpu.adapter and b["warning"] is None
+        assert a["ramp_phase"] == b["ramp_phase"]
+        worst = max(worst, float(np.abs(sim_cpu.positions - sim_gpu.positions).max()))
+    # Plain Gauss-Seidel: f32 rounding only (the Rust tests bound the same scene by 2e-5 m).
+    assert worst < 2e-5, worst
+    assert np.abs(sim_cpu.velocities - sim_gpu.velocities).max() < 1e-3
+
+
+def test_gpu_mesh_collider_and_backend_switch():
+    pos, tris, rest = grid(w=0.5, n=12, z=0.25)
+    sv, st = octahedron_sphere(r=0.2, subdiv=2)
+    sims = []
+    for backend in ("cpu", "gpu"):
+        sim = tailor.Simulation(pos, tris, rest, backend=backend)
+        cid = sim.add_mesh_collider(sv, st)
+        sims.append((sim, cid))
+    gpu_or_skip(sims[1][0])
+    for _ in range(15):
+        stats = [s.step(1 / 30) for s, _ in sims]
+    assert stats[1]["backend"] == "gpu"
+    assert stats[0]["collision"]["mesh_contacts"] > 10
+    (cpu, cid), (gpu, _) = sims
+    m = gpu.metrics(cid)
+    assert m["penetration_max_depth"] <= 3e-3 and np.isfinite(gpu.positions).all()
+    # Switching back to the CPU keeps the state (velocities come back from the GPU).
+    v = gpu.velocities
+    gpu.set_backend("cpu")
+    assert gpu.backend == "cpu"
+    np.testing.assert_array_equal(gpu.velocities, v)
+    gpu.step(1 / 30)

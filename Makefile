@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.tailor-built
 SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o -name '*.pyi' -o -name '*.wgsl') Cargo.toml pyproject.toml
 
-.PHONY: demo test test-rust test-python bench setup develop clean
+.PHONY: demo test test-rust test-python bench bench-peers setup develop clean
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -28,6 +28,11 @@ test-python: develop
 ## Benchmarks (print figures; not part of the tests).
 bench: develop
 	cargo bench -p tailor-core --bench solver
+
+## Tailor against Blender's Cloth and Newton on the same scenes (docs/benchmarks.md, "Against peers").
+bench-peers: develop
+	bash bench/peers/setup.sh
+	$(PY) bench/peers/run.py
 
 setup: $(VENV)/.tailor-setup
 

@@ -1,6 +1,7 @@
 """Tailor against its peers on the same scenes, side by side in one run (``make bench-peers``).
 
     python bench/peers/run.py [--scenes sheet-1k,shirt-10k] [--cap 90] [--out out/peers]
+        [--peers tailor,blender,newton] [--blender-quality 5,10,20] [--plot docs/img/peers.png]
 
 For each scene (``scenes.py``) the runs of all peers are interleaved (Tailor preview, Blender at
 its lowest quality, Newton XPBD, Newton Style3D, Tailor final, Blender at the next quality, ...),
@@ -19,6 +20,7 @@ import csv
 import json
 import os
 import platform
+import re
 import shutil
 import subprocess
 import sys
@@ -31,20 +33,23 @@ sys.path.insert(0, str(HERE))
 
 import scenes  # noqa: E402
 
+COMPILED = re.compile(r"took ([0-9.]+) ms\s+\(compiled\)")
 PREVIEW = dict(substeps=4, iterations=10)
 FINAL = dict(substeps=8, iterations=15)  # `tailor simulate`'s defaults
 
 
-def plan(scene: str) -> list[tuple[str, dict]]:
+def plan(scene: str, peers: set[str], blender_quality: list[int] | None = None) -> list[tuple[str, dict]]:
     """The runs of one scene, interleaved across peers (cheapest settings first)."""
     big = scene.endswith("10k")
     sewn = scene.startswith("shirt")
+    quality = blender_quality or ((5, 10, 20) if big else (5, 10, 20, 40))
     columns = [
         [("tailor", PREVIEW), ("tailor", FINAL)],
-        [("blender", dict(quality=q)) for q in ((5, 10, 20) if big else (5, 10, 20, 40))],
+        [("blender", dict(quality=q)) for q in quality],
         [("newton", dict(solver="xpbd", substeps=s, iterations=2)) for s in ((40, 160) if big else (40, 80, 160))],
         [("newton", dict(solver="style3d", substeps=s, iterations=10)) for s in ((4,) if sewn else (4, 8))],
     ]
+    columns = [[r for r in c if r[0] in peers] for c in columns]
     out = []
     for i in range(max(map(len, columns))):
         out += [c[i] for c in columns if i < len(c)]
@@ -101,7 +106,7 @@ def drop(scene: dict, x) -> float:
     return float((np.asarray(x, float).mean(0) - scene["positions"].mean(0)) @ d)
 
 
-def run_scene(name: str, out: Path, cap: float, env: dict) -> list[dict]:
+def run_scene(name: str, out: Path, cap: float, env: dict, peers: set[str], blender_quality) -> list[dict]:
     import numpy as np
 
     path = out / "scenes" / f"{name}.npz"
@@ -111,14 +116,18 @@ def run_scene(name: str, out: Path, cap: float, env: dict) -> list[dict]:
           f"{len(scene['seam_a_vertices'])} sewn pairs, body {len(scene['body_triangles'])} triangles, "
           f"{scene['frames']} frames", flush=True)
     records = []
-    for i, (peer, knob) in enumerate(plan(name)):
+    for i, (peer, knob) in enumerate(plan(name, peers, blender_quality)):
         res = out / "runs" / f"{name}-{i:02d}-{peer}.json"
         res.parent.mkdir(parents=True, exist_ok=True)
         load0 = loadavg()
-        subprocess.run([sys.executable, str(HERE / "run_one.py"), str(path), peer, json.dumps(knob), str(res), str(cap)],
-                       env=env, check=True, stdout=sys.stdout, stderr=subprocess.DEVNULL if peer == "newton" else None)
+        p = subprocess.run([sys.executable, str(HERE / "run_one.py"), str(path), peer, json.dumps(knob), str(res),
+                            str(cap)], env=env, check=True, stdout=subprocess.PIPE, text=True,
+                           stderr=subprocess.DEVNULL if peer == "newton" else None)
+        print("\n".join(line for line in p.stdout.splitlines() if not line.startswith(" ")), flush=True)
         rec = json.loads(res.read_text())
         rec.update(label=label(peer, knob), load_before=load0, load_after=loadavg())
+        # Warp prints one line per kernel module it compiles (cold cache) or loads (warm).
+        rec["warp_compile_s"] = sum(float(m) for m in COMPILED.findall(p.stdout)) / 1e3
         if rec["status"] == "ok" and not rec["quality"].get("nan"):
             rec["quality"]["drop_m"] = drop(scene, np.load(res.with_suffix(".npy")))
         records.append(rec)
@@ -142,7 +151,7 @@ def summarise(name: str, records: list[dict], thickness: float) -> dict:
         else:
             r["meets"], r["fails"] = meets(r["quality"], bar, thickness)
     best = {}
-    for peer in ("blender", "newton-xpbd", "newton-style3d"):
+    for peer in ("blender", "newton-xpbd", "newton-style3d"):  # (those that ran)
         runs = [r for r in records if (r["peer"] if r["peer"] != "newton" else f"newton-{r['knob']['solver']}") == peer]
         ok = sorted((r for r in runs if r["meets"]), key=lambda r: r["s_per_frame"])
         if not runs:
@@ -213,28 +222,36 @@ def table(records: list[dict], summaries: list[dict]) -> str:
 
 
 def plot(records: list[dict], path: Path) -> None:
+    """One panel per scene: CPU ms per frame of each run (bars; the wall time as a black tick),
+    hatched where the run's quality is worse than Tailor preview's."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
 
     names = list(dict.fromkeys(r["scene"] for r in records))
-    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4.6), squeeze=False)
+    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4.8), squeeze=False)
     colours = {"tailor": "tab:blue", "blender": "tab:orange", "xpbd": "tab:green", "style3d": "tab:purple"}
     for ax, name in zip(axes[0], names):
         rs = [r for r in records if r["scene"] == name and r["status"] == "ok" and r.get("s_per_frame")]
         for j, r in enumerate(rs):
             c = colours[r["peer"] if r["peer"] != "newton" else r["knob"]["solver"]]
-            ax.bar(j, r["s_per_frame"] * 1e3, color=c, hatch=None if r["meets"] else "//", edgecolor="black",
+            ax.bar(j, r["cpu_s_per_frame"] * 1e3, color=c, hatch=None if r["meets"] else "//", edgecolor="black",
                    alpha=1.0 if r["meets"] else 0.55)
+            ax.plot(j, r["s_per_frame"] * 1e3, marker="_", color="black", markersize=14)
         ax.set_yscale("log")
         ax.set_xticks(range(len(rs)), [r["label"].replace("Blender Cloth ", "Blender ").replace("Newton ", "")
                                        for r in rs], rotation=70, fontsize=7)
         ax.set_title(f"{name} ({rs[0]['particles']} particles)", fontsize=9)
-        ax.set_ylabel("ms per frame (median, wall)")
+        ax.set_ylabel("ms per frame (median; bar CPU, tick wall)")
         ax.grid(axis="y", which="both", alpha=0.3)
-    fig.suptitle("Frame time per peer and setting; hatched: quality worse than Tailor preview", fontsize=10)
-    fig.tight_layout()
+    handles = [Patch(color=c, label=n) for n, c in (("Tailor", "tab:blue"), ("Blender Cloth", "tab:orange"),
+                                                   ("Newton XPBD", "tab:green"), ("Newton Style3D", "tab:purple"))]
+    handles.append(Patch(facecolor="white", edgecolor="black", hatch="//", label="worse than Tailor preview"))
+    fig.legend(handles=handles, loc="upper right", fontsize=8, ncol=5)
+    fig.suptitle("Seconds per frame of each peer and setting, same scenes, one interleaved run", fontsize=10, x=0.25)
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
 
@@ -243,9 +260,16 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenes", default=",".join(scenes.SCENES))
     ap.add_argument("--cap", type=float, default=90.0, help="seconds of stepping per run before it stops")
+    ap.add_argument("--peers", default="tailor,blender,newton", help="which peers run (Tailor always sets the bar)")
+    ap.add_argument("--blender-quality", type=lambda v: [int(q) for q in v.split(",")],
+                    help="Blender's quality steps to run (default 5,10,20 at 10k, 5,10,20,40 at 1k)")
     ap.add_argument("--out", type=Path, default=REPO / "out" / "peers")
     ap.add_argument("--plot", type=Path, default=REPO / "docs" / "img" / "peers.png")
+    ap.add_argument("--replot", type=Path, metavar="RESULTS.json", help="only redraw the plot of an earlier run")
     args = ap.parse_args()
+    if args.replot:
+        plot(json.loads(args.replot.read_text())["runs"], args.plot)
+        return 0
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     cache = out / "warp-cache"
@@ -261,7 +285,7 @@ def main() -> int:
             print(f"== {name}: skipped ({why})")
             info["skipped"][name] = why
             continue
-        rs = run_scene(name, out, args.cap, env)
+        rs = run_scene(name, out, args.cap, env, set(args.peers.split(",")), args.blender_quality)
         s = summarise(name, rs, float(scenes.THICKNESS))
         records += rs
         summaries.append(s)

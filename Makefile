@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character
+.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -55,6 +55,11 @@ bench: develop
 ## Needs the bpy wheel in .venv: .venv/bin/pip install "bpy==4.5.*".
 samples-character: setup
 	$(PY) sample_blends/build/character.py --render out/character --docs-img docs/img
+
+## Tailor against Blender's Cloth and Newton on the same scenes (docs/benchmarks.md, "Against peers").
+bench-peers: develop
+	bash bench/peers/setup.sh
+	$(PY) bench/peers/run.py
 
 setup: $(VENV)/.tailor-setup
 

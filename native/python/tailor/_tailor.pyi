@@ -61,6 +61,10 @@ class Simulation:
     masses: F32
     settings: Settings
     thickness: float
+    triangles: npt.NDArray[np.uint32]
+    rest: F32
+    edges: npt.NDArray[np.uint32]
+    def seam_pairs(self) -> list[dict[str, Any]]: ...
     def __init__(
         self,
         positions: ArrayLike,

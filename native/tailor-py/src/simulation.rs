@@ -158,6 +158,48 @@ impl Simulation {
         self.inner.edit(|sim| sim.set_velocities(&velocities)).map_err(to_py)
     }
 
+    /// Triangles, a new (m, 3) uint32 array (what other solvers need to run the same cloth).
+    #[getter]
+    fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::patterns::rows(py, self.inner.model().mesh.triangles())
+    }
+
+    /// The flat 2D rest shape, a new (n, 2) float32 array, metres.
+    #[getter]
+    fn rest<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::patterns::rows(py, self.inner.model().mesh.rest())
+    }
+
+    /// Unique mesh edges, a new (k, 2) uint32 array (the edges the strain metric measures).
+    #[getter]
+    fn edges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::patterns::rows(py, &self.inner.model().mesh.topology().edges)
+    }
+
+    /// The seams as added: one dict per seam with its name, stiffness, bend_stiffness and the
+    /// sewn pairs as (k, 2) vertex and weight arrays per side (a vertex has weights (1, 0)).
+    fn seam_pairs<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .model()
+            .seams
+            .iter()
+            .map(|s| {
+                let d = PyDict::new(py);
+                d.set_item("name", s.name.as_str())?;
+                d.set_item("stiffness", s.stiffness)?;
+                d.set_item("bend_stiffness", s.bend_stiffness)?;
+                let side = |f: fn(&(SeamPoint, SeamPoint)) -> SeamPoint| s.pairs.iter().map(f).collect::<Vec<_>>();
+                for (key, pts) in [("a", side(|p| p.0)), ("b", side(|p| p.1))] {
+                    let v: Vec<[u32; 2]> = pts.iter().map(|p| p.verts).collect();
+                    let w: Vec<[f32; 2]> = pts.iter().map(|p| p.weights).collect();
+                    d.set_item(format!("{key}_vertices"), crate::patterns::rows(py, &v)?)?;
+                    d.set_item(format!("{key}_weights"), crate::patterns::rows(py, &w)?)?;
+                }
+                Ok(d)
+            })
+            .collect()
+    }
+
     /// Particle masses, kg (density × a third of adjacent rest areas × mass scale).
     #[getter]
     fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {

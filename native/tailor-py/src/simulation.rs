@@ -161,25 +161,26 @@ impl Simulation {
     /// Triangles, a new (m, 3) uint32 array (what other solvers need to run the same cloth).
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::patterns::rows(py, self.inner.model().mesh.triangles())
+        crate::patterns::rows(py, self.inner.simulation().model().mesh.triangles())
     }
 
     /// The flat 2D rest shape, a new (n, 2) float32 array, metres.
     #[getter]
     fn rest<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::patterns::rows(py, self.inner.model().mesh.rest())
+        crate::patterns::rows(py, self.inner.simulation().model().mesh.rest())
     }
 
     /// Unique mesh edges, a new (k, 2) uint32 array (the edges the strain metric measures).
     #[getter]
     fn edges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::patterns::rows(py, &self.inner.model().mesh.topology().edges)
+        crate::patterns::rows(py, &self.inner.simulation().model().mesh.topology().edges)
     }
 
     /// The seams as added: one dict per seam with its name, stiffness, bend_stiffness and the
     /// sewn pairs as (k, 2) vertex and weight arrays per side (a vertex has weights (1, 0)).
     fn seam_pairs<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         self.inner
+            .simulation()
             .model()
             .seams
             .iter()

@@ -19,7 +19,7 @@ def addon_classes(addon, base):
 def test_operators_have_tooltips_undo_and_a_menu_entry(addon):
     ops = addon_classes(addon, bpy.types.Operator)
     assert len(ops) >= 12
-    in_menu = {e[0] for e in addon.menu.OPERATORS if e}
+    in_menu = {e[0] for e in (*addon.menu.OPERATORS, *addon.menu.EXTRA) if e}
     for op in ops:
         assert op.bl_description and len(op.bl_description) > 20, op
         assert {"REGISTER", "UNDO"} <= set(op.bl_options), op

@@ -15,11 +15,29 @@ from . import draw, live, operators, properties, ui
 classes = properties.classes + operators.classes + ui.classes
 
 
+#: Object > Tailor menu entries (menu.EXTRA), in workflow order.
+MENU = (
+    ("tailor.mark_collider", "Mark Collider"),
+    ("tailor.collider_proxy", "Make Collider Proxy"),
+    ("tailor.live", "Simulate Live"),
+    ("tailor.live_step", "Live Step"),
+    ("tailor.live_stop", "Stop Live"),
+    ("tailor.bake", "Bake Simulation"),
+    ("tailor.bake_clear", "Free Bake"),
+)
+
+
 def register() -> None:
+    from .. import menu
+
     properties.register()
+    menu.EXTRA.extend(e for e in MENU if e not in menu.EXTRA)
 
 
 def unregister() -> None:
+    from .. import menu
+
     live.stop_all()
     draw.remove()
+    menu.EXTRA[:] = [e for e in menu.EXTRA if e not in MENU]
     properties.unregister()

@@ -137,7 +137,7 @@ class TAILOR_OT_bake(bpy.types.Operator):
         "Simulate the garment over the frame range into PC2 caches beside the .blend, played by Mesh Cache "
         "modifiers (Esc cancels, keeping the frames done)"
     )
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}
 
     resume: BoolProperty(name="Resume", description="Continue from the last cached frame", default=False)
 
@@ -246,7 +246,7 @@ class TAILOR_OT_live(bpy.types.Operator):
         "The garment assembles and follows the character while the timeline plays or you scrub; edits to "
         "fabric, settings and pins apply at once (Esc stops and restores the pieces)"
     )
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}
 
     _timer = None
 
@@ -294,7 +294,7 @@ class TAILOR_OT_live_step(bpy.types.Operator):
         "Live mode without the modal timer (scripts, tests): solve `count` frames on the worker thread and "
         "apply each on the main thread, optionally advancing the timeline one frame each time"
     )
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}
 
     count: IntProperty(name="Frames", min=1, default=1)
     advance: BoolProperty(name="Advance Timeline", default=True)
@@ -318,7 +318,7 @@ class TAILOR_OT_live_stop(bpy.types.Operator):
     bl_idname = "tailor.live_stop"
     bl_label = "Stop Live"
     bl_description = "Stop Live mode and put the pieces back as they were"
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}
 
     keep: BoolProperty(name="Keep Shape", description="Keep the simulated shape in the pieces", default=False)
 

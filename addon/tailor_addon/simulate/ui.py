@@ -34,6 +34,7 @@ class TAILOR_PT_simulate(TailorPanel, bpy.types.Panel):
 
 class TAILOR_PT_simulate_colliders(TailorPanel, bpy.types.Panel):
     bl_idname = "TAILOR_PT_simulate_colliders"
+    bl_order = 11
     bl_label = "Colliders"
     bl_parent_id = "TAILOR_PT_simulate"
 
@@ -61,6 +62,7 @@ class TAILOR_PT_simulate_colliders(TailorPanel, bpy.types.Panel):
 
 class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
     bl_idname = "TAILOR_PT_simulate_settings"
+    bl_order = 12
     bl_label = "Settings"
     bl_parent_id = "TAILOR_PT_simulate"
 
@@ -104,6 +106,7 @@ class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
 
 class TAILOR_PT_simulate_bake(TailorPanel, bpy.types.Panel):
     bl_idname = "TAILOR_PT_simulate_bake"
+    bl_order = 13
     bl_label = "Bake"
     bl_parent_id = "TAILOR_PT_simulate"
 

@@ -33,8 +33,10 @@ def shirt_on_character(blend_path: Path, edge: float = 0.03, proxy_voxel: float 
     before = set(bpy.data.objects)
     assert bpy.ops.tailor.import_pattern(filepath=str(SHIRT), edge_length=edge) == {"FINISHED"}
     pieces = sorted((o for o in bpy.data.objects if o not in before), key=lambda o: o.name)
+    # Importers that keep GarmentCode's Y-up put the shirt's height on Y (its Z centred on 0).
+    y_up = sum(o.matrix_world.translation.z for o in pieces) / len(pieces) < 0.5
     for o in pieces:
-        o.matrix_world = Matrix.Translation((0.0, 0.0, lift)) @ Y_UP_TO_Z_UP @ o.matrix_world
+        o.matrix_world = Matrix.Translation((0.0, 0.0, lift)) @ (Y_UP_TO_Z_UP if y_up else Matrix()) @ o.matrix_world
     body = bpy.data.objects["Body"]
     for o in scene.objects:
         o.select_set(o == body)

@@ -107,3 +107,16 @@ def test_live_solver_steps_on_its_thread_and_applies_edits():
         solver.stop()
     with pytest.raises(RuntimeError, match="stopped"):
         solver.submit(3, [v])
+    # The modal bake's use: every frame kept; stop lets a frame in progress finish (and drops
+    # one not started yet): the frames kept are whole and in order either way.
+    built = core_sim.build(g, core_sim.SimSettings(), fabrics, [{}, {}], [core_sim.ColliderData("box", v, t)])
+    run = bake.Bake(built.sim, built.colliders, 30.0, 1)
+    keeper = LiveSolver(run, keep_frames=True)
+    for f in (1, 2, 3):
+        assert keeper.submit(f, [v])
+        assert keeper.wait(30).error is None
+    assert keeper.submit(4, [v])
+    keeper.stop(timeout=None)
+    kept = len(run.records)
+    assert kept in (3, 4) and len(run.frames) == kept
+    assert [r["frame"] for r in run.records] == list(range(1, kept + 1))

@@ -35,10 +35,14 @@ class LiveResult:
 
 
 class LiveSolver:
-    """One worker thread stepping `run` (a `tailor.bake.Bake`) one frame per submission."""
+    """One worker thread stepping `run` (a `tailor.bake.Bake`) one frame per submission.
 
-    def __init__(self, run: bake.Bake):
+    Live keeps only the latest frame; with `keep_frames` (the modal bake) every frame stays in
+    `run.frames`, to be read on the main thread once the worker is idle or stopped."""
+
+    def __init__(self, run: bake.Bake, keep_frames: bool = False):
         self.run = run
+        self.keep_frames = keep_frames
         self._lock = threading.Condition()
         self._job: tuple[int, Sequence[np.ndarray], list[Callable]] | None = None
         self._result: LiveResult | None = None
@@ -116,11 +120,11 @@ class LiveSolver:
             for edit in edits:
                 edit(self.run.sim)
             rec = self.run.step(colliders)
-            # Live keeps no history: only the latest frame matters.
             pos = self.run.frames[-1]
-            self.run.frames.clear()
-            self.run.records.clear()
-            self.run.frames.append(pos)
+            if not self.keep_frames:  # Live keeps no history: only the latest frame matters
+                self.run.frames.clear()
+                self.run.records.clear()
+                self.run.frames.append(pos)
             return LiveResult(frame, pos, rec, (time.perf_counter() - t0) * 1e3)
         except Exception as exc:  # handed to the main thread, which reports it and stops
             return LiveResult(frame, np.empty((0, 3), np.float32), {}, (time.perf_counter() - t0) * 1e3, exc)

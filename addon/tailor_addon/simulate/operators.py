@@ -14,7 +14,9 @@ from bpy.props import BoolProperty, FloatProperty, IntProperty
 
 from .. import scene_data
 from ..core import AddonError
+from ..core.errors import is_reportable
 from ..core.simulate import triangle_size_spread
+from ..core.simulate_live import LiveSolver
 from ..reporting import report, reports_errors
 from ..ui_common import redraw_view3d
 from . import draw, gather, job as bake_job, live
@@ -174,16 +176,18 @@ class TAILOR_OT_bake(bpy.types.Operator):
         try:
             self._job, _ = self._begin(context)
         except Exception as exc:
-            from ..core.errors import is_reportable
-
             if not is_reportable(exc):
                 raise
             report(self, exc, "Baking")
             return {"CANCELLED"}
+        # The solve runs on a worker thread (the GIL is released while it solves); each timer
+        # tick only moves the timeline, evaluates the colliders and hands them over.
+        self._solver = LiveSolver(self._job.run, keep_frames=True)
+        self._error = None
         wm = context.window_manager
         self._total = self._job.end - self._job.start + 1
         wm.progress_begin(0, self._total)
-        self._timer = wm.event_timer_add(0.001, window=context.window)
+        self._timer = wm.event_timer_add(0.02, window=context.window)
         wm.modal_handler_add(self)
         return {"RUNNING_MODAL"}
 
@@ -192,25 +196,35 @@ class TAILOR_OT_bake(bpy.types.Operator):
             return self._end(context, cancelled=True)
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
-        job = self._job
-        try:
-            job.step()  # one frame per tick: the UI handles events between frames
-        except Exception as exc:
-            from ..core.errors import is_reportable
-
-            if not is_reportable(exc):
+        job, solver = self._job, self._solver
+        res = solver.poll()
+        if res is not None and res.error is not None:
+            if not is_reportable(res.error):
                 self._end(context, cancelled=True)
-                raise
-            report(self, exc, "Baking")
+                raise res.error
+            report(self, res.error, "Baking")
             return self._end(context, cancelled=True)
+        if not solver.busy:
+            if job.done:
+                return self._end(context, cancelled=False)
+            frame = job.run.next_frame
+            try:
+                positions = job.colliders_at(frame)
+            except Exception as exc:
+                if not is_reportable(exc):
+                    self._end(context, cancelled=True)
+                    raise
+                report(self, exc, "Baking")
+                return self._end(context, cancelled=True)
+            solver.submit(frame, positions)
         done = len(job.run.frames)
         context.window_manager.progress_update(done)
-        _status(context, f"Tailor: baking frame {job.run.next_frame - 1} ({done}/{self._total}), Esc cancels")
-        if job.done:
-            return self._end(context, cancelled=False)
+        what = "assembling" if done == 0 else f"frame {job.run.next_frame}"
+        _status(context, f"Tailor: baking, {what} ({done}/{self._total} done), Esc cancels keeping the frames done")
         return {"RUNNING_MODAL"}
 
     def _end(self, context, cancelled: bool):
+        self._solver.stop(timeout=None)  # lets the frame in progress finish: it is kept
         wm = context.window_manager
         wm.event_timer_remove(self._timer)
         wm.progress_end()
@@ -254,8 +268,6 @@ class TAILOR_OT_live(bpy.types.Operator):
         try:
             live.start(context)
         except Exception as exc:
-            from ..core.errors import is_reportable
-
             if not is_reportable(exc):
                 raise
             report(self, exc, "Starting Live mode")

@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers
+.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -49,6 +49,10 @@ $(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
 ## Benchmarks (print figures; not part of the tests).
 bench: develop
 	cargo bench -p tailor-core --bench solver
+
+## Add-on level: Live fps and Bake s/frame of the shirt on the walking character (bpy wheel).
+bench-addon: addon
+	$(PY) tests/addon/bench_simulate.py
 
 ## Regenerate sample_blends/character.blend and .glb (rig, skin, walk and run) from
 ## sample_blends/sources, with contact sheets in out/character and the docs' previews.

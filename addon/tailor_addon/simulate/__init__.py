@@ -1,18 +1,43 @@
-"""Simulate (issue 7): live and baked simulation of the scene's garment on its colliders.
+"""Simulate (issue 7): the garment on its colliders, live and baked.
 
-Registered but empty until the Simulate panel lands. It builds its `tailor.Simulation` with
-`scene_data.build_garment(scene).build_simulation(...)` and reads painted maps with
-`paint.maps.painted_maps(obj)`; see docs/addon.md. Add `properties.py`, `operators.py` and
-`ui.py` here and list their classes below (registered after the other features, so its panel
-comes last in the Tailor tab).
+- `properties.py`: the panel's settings (`Scene.tailor_simulate`) and `Object.tailor_collider`;
+- `gather.py`: scene -> arrays (settings, fabric, painted maps, colliders evaluated every frame);
+- `job.py`: a bake (`tailor.bake.Bake` driven frame by frame, PC2 caches, Mesh Cache playback);
+- `live.py`, `draw.py`: Live mode's main-thread half and its overlay (the worker thread is
+  `core/simulate_live.py`);
+- `operators.py`, `ui.py`: the operators and the panel.
+
+The simulation itself is built by the bpy-free `core/simulate.py`.
 """
 
-classes = ()
+from . import draw, live, operators, properties, ui
+
+classes = properties.classes + operators.classes + ui.classes
+
+
+#: Object > Tailor menu entries (menu.EXTRA), in workflow order.
+MENU = (
+    ("tailor.mark_collider", "Mark Collider"),
+    ("tailor.collider_proxy", "Make Collider Proxy"),
+    ("tailor.live", "Simulate Live"),
+    ("tailor.live_step", "Live Step"),
+    ("tailor.live_stop", "Stop Live"),
+    ("tailor.bake", "Bake Simulation"),
+    ("tailor.bake_clear", "Free Bake"),
+)
 
 
 def register() -> None:
-    pass
+    from .. import menu
+
+    properties.register()
+    menu.EXTRA.extend(e for e in MENU if e not in menu.EXTRA)
 
 
 def unregister() -> None:
-    pass
+    from .. import menu
+
+    live.stop_all()
+    draw.remove()
+    menu.EXTRA[:] = [e for e in menu.EXTRA if e not in MENU]
+    properties.unregister()

@@ -14,12 +14,11 @@ from __future__ import annotations
 
 import json
 import os
-import time
 from pathlib import Path
 
 import numpy as np
 
-FIELDS = ("seam_gap_max_m", "penetration_count", "penetration_max_m", "self_intersections", "strain_max")
+from tailor.bake import FIELDS  # noqa: F401  (the report fields, kept importable from here)
 
 
 def register(sub):
@@ -77,6 +76,7 @@ class ColliderMotion:
 
 def run(args):
     import tailor
+    from tailor import bake
 
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
     gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
@@ -95,54 +95,34 @@ def run(args):
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
           f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}, "
           f"backend {sim.backend}{f' ({sim.adapter})' if sim.adapter else ''}")
-    frames, cache = [], []
-    for f in range(args.frames):
-        sim.set_collider_positions(cid, motion.at(f))
-        t0 = time.perf_counter()
+    # Frame 0 is the garment as placed; frames 1..N are one step each (tailor.bake.Bake).
+    run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0)
+    run.step([motion.at(0)])
+    frames = []
+    while run.next_frame <= args.frames:
+        f = run.next_frame
         try:
-            stats = sim.step(1.0 / args.fps)
-            if stats["warning"] and stats["warning"] not in warnings:
-                warnings.append(stats["warning"])
-            nan = False
+            rec = run.step([motion.at(f - 1)])
         except tailor.SimulationError as exc:
-            warnings.append(f"frame {f + 1}: {exc}")
-            nan = True
-        ms = (time.perf_counter() - t0) * 1e3
-        m = sim.metrics(cid)
-        rec = {
-            "frame": f + 1,
-            "ms": ms,
-            "seam_gap_max_m": float(m["seam_gap"]),
-            "penetration_count": int(m["penetration_count"]),
-            "penetration_max_m": float(m["penetration_max_depth"]),
-            "self_intersections": int(m["self_intersections"]),
-            "strain_max": float(m["strain_max"]),
-            "nan": nan or not bool(np.isfinite(sim.positions).all()),
-        }
+            warnings.append(f"frame {f}: {exc}")
+            rec = bake.frame_record(sim, f, 0.0, True, cid)
+            run.frames.append(sim.positions)
+            run.records.append(rec)
         frames.append(rec)
-        if args.output:
-            cache.append(sim.positions)
-        if (f + 1) % 10 == 0 or f == 0 or f + 1 == args.frames:
-            print(f"frame {f + 1:4d}: {ms:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
+        if f % 10 == 0 or f == 1 or f == args.frames:
+            print(f"frame {f:4d}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
                   f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
                   f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}")
-    summary = {k: max(r[k] for r in frames) for k in FIELDS}
-    summary.update(frame=len(frames), ms=float(np.mean([r["ms"] for r in frames])), nan=any(r["nan"] for r in frames))
-    report = {
-        "frames": frames,
-        "summary": summary,
-        "warnings": warnings,
-        "thickness_m": args.thickness,
-        "backend": sim.backend,
-        "adapter": sim.adapter,
-    }
+    summary = bake.summarize(frames)
+    report = {"frames": frames, "summary": summary, "warnings": warnings, "thickness_m": args.thickness,
+              "backend": sim.backend, "adapter": sim.adapter}
     Path(args.report).parent.mkdir(parents=True, exist_ok=True)
     tmp = args.report + ".tmp"
     with open(tmp, "w") as fh:
         json.dump(report, fh, indent=1)
     os.replace(tmp, args.report)
     if args.output:
-        tailor.write_pc2(args.output, np.stack(cache), start_frame=1.0, sample_rate=1.0)
+        bake.write_pc2_atomic(args.output, run.positions()[1:], start_frame=1.0, sample_rate=1.0)
     for w in warnings:
         print(f"warning: {w}")
     print(f"summary: {json.dumps(summary)}")

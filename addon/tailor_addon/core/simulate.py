@@ -1,0 +1,267 @@
+"""From the Simulate panel's settings and the scene's arrays to a ready `tailor.Simulation`.
+
+Bpy-free: the Blender layer (`simulate/`) reads the panel, the pieces' fabric, the painted
+maps and the colliders' evaluated meshes into the plain structures below, and this module
+builds the simulation the Bake and Live modes drive through `tailor.bake.Bake`. Everything is
+validated here, before anything in the scene changes, so a bad setting is a report and the
+scene stays as it was.
+
+Per-piece fabric: stretch and shear become per-triangle stiffness, density a per-particle
+mass scale (relative to the simulation's base fabric, the first piece's); painted maps
+(`core/paint.py`) override friction, mass, pins and collision levels per particle. Bending
+is one value per simulation in the module: the first piece's (a warning says so when the
+pieces differ).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import tailor
+from tailor import bake
+
+from .errors import AddonError
+from .garment import SceneGarment
+
+#: Quality presets over substeps, iterations and tolerance (used when the module has no
+#: `Settings.preset`). Preview keeps Live interactive; final is what the issue's quality
+#: figures are measured with (`tailor simulate` defaults).
+PRESETS = {
+    "PREVIEW": {"substeps": 4, "iterations": 10, "tolerance": 1e-3},
+    "FINAL": {"substeps": 8, "iterations": 15, "tolerance": 0.0},
+}
+
+#: Pin weights at or above this are hard pins; lower (non-zero) ones are soft attachments,
+#: grouped by weight rounded to this many steps.
+HARD_PIN = 0.999
+ATTACHMENT_STEPS = 20
+
+
+def preset_values(name: str) -> dict:
+    """Substeps, iterations and tolerance of preset `name` (`PREVIEW`/`FINAL`): the module's
+    `Settings.preset` when it has one, else the table above."""
+    preset = getattr(tailor.Settings, "preset", None)
+    if preset is not None:
+        s = preset(name.lower())
+        return {"substeps": s.substeps, "iterations": s.iterations, "tolerance": s.tolerance}
+    if name not in PRESETS:
+        raise AddonError(f"unknown quality preset '{name}'", f"Pick one of {', '.join(PRESETS)}")
+    return dict(PRESETS[name])
+
+
+def backend_support() -> str | None:
+    """How the module takes a backend choice: 'settings' (a `Settings.backend` field),
+    'simulation' (a `Simulation(..., backend=)` argument) or None (CPU only)."""
+    if hasattr(tailor.Settings(), "backend"):
+        return "settings"
+    sig = getattr(tailor.Simulation, "__text_signature__", None) or ""
+    return "simulation" if "backend" in sig else None
+
+
+def adapter_of(sim) -> str:
+    """The adapter a simulation runs on, as the module reports it."""
+    for name in ("adapter", "backend_info", "backend"):
+        v = getattr(sim, name, None)
+        if v is not None and not callable(v):
+            return str(v)
+    return "CPU (this build of tailor has no backend choice)"
+
+
+@dataclass
+class SimSettings:
+    """The Simulate panel's settings (SI units)."""
+
+    substeps: int = 8
+    iterations: int = 15
+    tolerance: float = 0.0
+    backend: str = "auto"  # auto | cpu | gpu
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    air_damping: float | None = None
+    ramp_enabled: bool = True
+    ramp_closing_speed: float | None = None
+    ramp_closing_damping: float | None = None
+    thickness: float = 0.004
+    self_collision: bool = False
+    fps: float = 30.0
+    seam_stiffness: float = 1000.0
+    seam_bend_stiffness: float = 1e-5
+    friction_static: float = 0.5
+    friction_kinetic: float = 0.3
+
+    def to_tailor(self) -> tailor.Settings:
+        if self.substeps < 1:
+            raise tailor.InvalidParameterError(f"substeps is {self.substeps}: must be at least 1")
+        if self.iterations < 1:
+            raise tailor.InvalidParameterError(f"iterations is {self.iterations}: must be at least 1")
+        if not self.fps > 0:
+            raise tailor.InvalidParameterError(f"frame rate is {self.fps}: must be positive")
+        kw = dict(
+            substeps=int(self.substeps),
+            iterations=int(self.iterations),
+            tolerance=float(self.tolerance),
+            gravity=tuple(float(g) for g in self.gravity),
+            ramp_enabled=bool(self.ramp_enabled),
+        )
+        for name in ("air_damping", "ramp_closing_speed", "ramp_closing_damping"):
+            v = getattr(self, name)
+            if v is not None:
+                kw[name] = float(v)
+        if backend_support() == "settings":
+            kw["backend"] = self.backend
+        return tailor.Settings(**kw)
+
+
+@dataclass
+class PieceFabric:
+    density: float
+    stretch: float
+    shear: float
+    bend: float
+
+
+@dataclass
+class ColliderData:
+    """A collider mesh at the start frame: world-space (n, 3) positions, (m, 3) triangles."""
+
+    name: str
+    positions: np.ndarray
+    triangles: np.ndarray
+    friction_static: float = 0.5
+    friction_kinetic: float = 0.3
+    levels: np.ndarray | None = None
+
+
+@dataclass
+class Built:
+    sim: tailor.Simulation
+    colliders: list[bake.Collider]
+    warnings: list[str] = field(default_factory=list)
+    adapter: str = ""
+
+
+def _per_particle(garment: SceneGarment, maps: list[dict], key: str, default: float) -> tuple[np.ndarray, bool]:
+    """Values of painted map `key` over all particles (`default` where unpainted) and whether
+    anything is painted."""
+    out = np.full(garment.num_particles, default, np.float32)
+    any_painted = False
+    for i, m in enumerate(maps):
+        if key in m:
+            vals, painted = m[key]
+            o = int(garment.offsets[i])
+            sl = out[o : o + len(vals)]
+            sl[painted] = np.asarray(vals, np.float32)[painted]
+            any_painted |= bool(np.any(painted))
+    return out, any_painted
+
+
+def build(
+    garment: SceneGarment,
+    settings: SimSettings,
+    fabrics: list[PieceFabric],
+    maps: list[dict],
+    colliders: list[ColliderData],
+) -> Built:
+    """The simulation of `garment` on `colliders` with everything the panels set. Raises
+    `AddonError`/`tailor.TailorError` naming the offending piece, collider or setting."""
+    if len(fabrics) != len(garment.pieces) or len(maps) != len(garment.pieces):
+        raise AddonError("fabric or painted maps missing for some pieces", "Re-import the garment")
+    for c in colliders:
+        bake.check_collider_positions(c.name, c.positions, len(c.positions))
+        if len(c.triangles) == 0:
+            raise AddonError(f"collider '{c.name}' has no faces", "Pick a mesh with faces as collider")
+    if not settings.thickness > 0:
+        raise tailor.InvalidParameterError(f"thickness is {settings.thickness}: must be positive")
+    warnings = list(garment.warnings)
+    base = fabrics[0]
+    if len({f.bend for f in fabrics}) > 1:
+        warnings.append(f"pieces have different bending stiffness: the module takes one, {base.bend:g} "
+                        f"(piece '{garment.pieces[0].name}')")
+    sim = garment.build_simulation(
+        tailor.Fabric(density=base.density, stretch=base.stretch, shear=base.shear, bend=base.bend),
+        settings.to_tailor(),
+        seam_stiffness=settings.seam_stiffness,
+        seam_bend_stiffness=settings.seam_bend_stiffness,
+    )
+    sim.thickness = float(settings.thickness)
+    apply_fabric(sim, garment, fabrics, maps)
+    apply_friction(sim, garment, maps, settings)
+    apply_pins(sim, garment, maps)
+    levels, painted = _per_particle(garment, maps, "collision_level", 0)
+    if painted:
+        sim.set_particle_levels(levels.astype(np.int32))
+    sim.set_self_collision(enabled=bool(settings.self_collision))
+    out = []
+    for c in colliders:
+        cid = sim.add_mesh_collider(
+            np.ascontiguousarray(c.positions, np.float32),
+            np.ascontiguousarray(c.triangles, np.int64),
+            static_friction=c.friction_static,
+            kinetic_friction=c.friction_kinetic,
+        )
+        if c.levels is not None:
+            sim.set_collider_levels(cid, np.asarray(c.levels, np.int32))
+        out.append(bake.Collider(c.name, cid, len(c.positions)))
+    return Built(sim, out, warnings, adapter_of(sim))
+
+
+def apply_fabric(sim, garment: SceneGarment, fabrics: list[PieceFabric], maps: list[dict]) -> None:
+    """Per-triangle stretch/shear and per-particle mass scale (density x painted mass)."""
+    counts = [len(m.triangles) for m in garment.meshes]
+    stretch = np.repeat([f.stretch for f in fabrics], counts).astype(np.float32)
+    shear = np.repeat([f.shear for f in fabrics], counts).astype(np.float32)
+    sim.set_triangle_stiffness(stretch, shear)
+    n = [len(m.rest) for m in garment.meshes]
+    density = np.repeat([f.density / fabrics[0].density for f in fabrics], n).astype(np.float32)
+    painted, _ = _per_particle(garment, maps, "mass_scale", 1.0)
+    sim.set_mass_scale(density * painted)
+
+
+def apply_friction(sim, garment: SceneGarment, maps: list[dict], settings: SimSettings) -> None:
+    fs, a = _per_particle(garment, maps, "friction_static", settings.friction_static)
+    fk, b = _per_particle(garment, maps, "friction_kinetic", settings.friction_kinetic)
+    if a or b:
+        sim.set_particle_friction(fs, fk)
+
+
+def pin_sets(garment: SceneGarment, maps: list[dict]) -> tuple[np.ndarray, list[tuple[float, np.ndarray]]]:
+    """(hard-pinned particles, [(weight, particles)] soft attachments) from the pin map."""
+    w, _ = _per_particle(garment, maps, "pin", 0.0)
+    hard = np.flatnonzero(w >= HARD_PIN)
+    soft_w = np.round(w * ATTACHMENT_STEPS) / ATTACHMENT_STEPS
+    soft = [(float(v), np.flatnonzero((soft_w == v) & (w < HARD_PIN))) for v in np.unique(soft_w) if 0 < v < 1]
+    return hard, [(v, p) for v, p in soft if len(p)]
+
+
+def apply_pins(sim, garment: SceneGarment, maps: list[dict]) -> None:
+    """Pins at the particles' current positions (where the artist placed the garment)."""
+    hard, soft = pin_sets(garment, maps)
+    pos = garment.positions
+    if len(hard):
+        sim.pin(hard.astype(np.int64), pos[hard])
+    for weight, particles in soft:
+        sim.add_attachments(particles.astype(np.int64), pos[particles], weight)
+
+
+def triangle_size_spread(vertices: np.ndarray, triangles: np.ndarray) -> dict:
+    """How even a mesh's triangles are (the spatial hash wants them even, paper Sec. 6):
+    mean edge length, its coefficient of variation and the 95th/5th percentile ratio."""
+    v = np.asarray(vertices, np.float64).reshape(-1, 3)
+    t = np.asarray(triangles, np.int64).reshape(-1, 3)
+    if len(t) == 0:
+        return {"triangles": 0, "edge_mean": 0.0, "edge_cv": 0.0, "edge_p95_p5": 0.0}
+    e = np.concatenate([np.linalg.norm(v[t[:, i]] - v[t[:, (i + 1) % 3]], axis=1) for i in range(3)])
+    p5, p95 = np.percentile(e, [5, 95])
+    return {
+        "triangles": int(len(t)),
+        "edge_mean": float(e.mean()),
+        "edge_cv": float(e.std() / e.mean()) if e.mean() > 0 else 0.0,
+        "edge_p95_p5": float(p95 / p5) if p5 > 0 else float("inf"),
+    }
+
+
+def split_pieces(positions: np.ndarray, offsets: np.ndarray, total: int) -> list[np.ndarray]:
+    """Concatenated per-particle rows back into one array per piece."""
+    ends = list(offsets[1:]) + [total]
+    return [positions[..., int(a) : int(b), :] for a, b in zip(offsets, ends)]

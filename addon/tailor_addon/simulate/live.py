@@ -1,0 +1,186 @@
+"""Live mode's Blender half: one `LiveSession` per scene, ticked on the main thread.
+
+A tick (from the modal timer in the UI, or `tailor.live_step` in scripts and tests) does only
+main-thread work: take the worker's finished frame (`core.simulate_live.LiveSolver.poll`) and
+write it into the piece meshes, then, if the worker is idle, gather the colliders at the
+current frame (the timeline plays or the artist scrubs: the garment follows) plus any edits
+and submit them. The solve itself runs on the worker with the GIL released, so the viewport
+waits for at most one frame's gathering and writing.
+
+Edits apply without a restart: every tick compares the pieces' fabric and the panel's
+settings with what the solver has, and every `MAPS_EVERY` ticks re-reads the painted maps
+(pins, friction, mass); a change becomes an edit the worker applies before its next frame.
+Stopping restores the pieces' meshes as they were before Live started.
+"""
+
+from __future__ import annotations
+
+import bpy
+import numpy as np
+
+from tailor import bake
+
+from ..core import simulate as core_sim
+from ..core.simulate_live import LiveResult, LiveSolver
+from ..paint.maps import painted_maps
+from . import gather
+
+SESSIONS: dict[str, "LiveSession"] = {}
+MAPS_EVERY = 15
+
+
+class LiveSession:
+    def __init__(self, context):
+        scene = context.scene
+        self.scene_name = scene.name
+        self.settings = gather.sim_settings(scene)
+        garment, self.objects, self.fabrics, self.maps, self.collider_objects = gather.read_scene(scene)
+        self.garment = garment
+        dg = context.evaluated_depsgraph_get()
+        colliders = gather.collider_data(self.collider_objects, dg)
+        built = core_sim.build(garment, self.settings, self.fabrics, self.maps, colliders)
+        self.warnings, self.adapter = built.warnings, built.adapter
+        self.hard_pins, _ = core_sim.pin_sets(garment, self.maps)
+        self.piece_names = [o.name for o in self.objects]
+        # What Live overwrites, restored by `stop`.
+        self.original = []
+        for o in self.objects:
+            co = np.empty(len(o.data.vertices) * 3, np.float32)
+            o.data.vertices.foreach_get("co", co)
+            self.original.append(co)
+        self.solver = LiveSolver(bake.Bake(built.sim, built.colliders, self.settings.fps, scene.frame_current))
+        self.ticks = 0
+        self.frames_applied = 0
+        self.last: LiveResult | None = None
+        self.error: BaseException | None = None
+
+    # ---- main thread ----------------------------------------------------------------------------
+
+    def tick(self, context, block: bool = False, timeout: float = 60.0) -> LiveResult | None:
+        """One main-thread turn: apply a finished frame, submit the next. With `block`, submit
+        first if idle and wait for that frame (scripts, tests)."""
+        self.ticks += 1
+        if block and not self.solver.busy:
+            self.submit(context)
+        res = self.solver.wait(timeout) if block else self.solver.poll()
+        if res is not None:
+            self.apply(res)
+        if self.error is None and not self.solver.busy and not block:
+            self.submit(context)
+        return res
+
+    def submit(self, context) -> bool:
+        scene = context.scene
+        dg = context.evaluated_depsgraph_get()
+        positions = [gather.evaluated_positions(o, dg) for o in self.collider_objects]
+        return self.solver.submit(scene.frame_current, positions, self.pending_edits(scene))
+
+    def apply(self, res: LiveResult) -> None:
+        if res.error is not None:
+            self.error = res.error
+            return
+        self.last = res
+        self.frames_applied += 1
+        for part, o in zip(core_sim.split_pieces(res.positions, self.garment.offsets, self.garment.num_particles),
+                           self.objects):
+            inv = np.linalg.inv(np.array(o.matrix_world, np.float64))
+            local = (part.astype(np.float64) @ inv[:3, :3].T + inv[:3, 3]).astype(np.float32)
+            o.data.vertices.foreach_set("co", local.reshape(-1))
+            o.data.update()
+
+    def pending_edits(self, scene) -> list:
+        """Edits of fabric, settings and painted maps since the solver last saw them."""
+        edits = []
+        fabrics = gather.fabrics(self.objects)
+        maps = self.maps
+        if self.ticks % MAPS_EVERY == 0:
+            maps = [painted_maps(o) for o in self.objects]
+        if fabrics != self.fabrics or not _same_maps(maps, self.maps, "mass_scale"):
+            g, f, m = self.garment, fabrics, maps
+            edits.append(lambda sim: core_sim.apply_fabric(sim, g, f, m))
+        if not (_same_maps(maps, self.maps, "friction_static") and _same_maps(maps, self.maps, "friction_kinetic")):
+            g, m, st = self.garment, maps, self.settings
+            edits.append(lambda sim: core_sim.apply_friction(sim, g, m, st))
+        if not _same_maps(maps, self.maps, "pin"):
+            hard, _soft = core_sim.pin_sets(self.garment, maps)
+            old, pos = self.hard_pins, self.garment.positions
+
+            def repin(sim, old=old, hard=hard, pos=pos):
+                if len(old):
+                    sim.unpin(old.astype(np.int64))
+                if len(hard):
+                    sim.pin(hard.astype(np.int64), pos[hard])
+
+            edits.append(repin)
+            self.hard_pins = hard
+        settings = gather.sim_settings(scene)
+        if settings != self.settings:
+            new = settings
+            if new.substeps < 1:  # keep going with the last good settings; the panel shows the value
+                new = self.settings
+            else:
+                edits.append(lambda sim, s=new: _apply_settings(sim, s))
+            self.settings = new
+        self.fabrics, self.maps = fabrics, maps
+        return edits
+
+    def stats(self) -> dict:
+        r = self.last.record if self.last is not None else {}
+        return {
+            "fps": self.solver.fps(),
+            "seam_gap_mm": r.get("seam_gap_max_m", 0.0) * 1e3,
+            "penetrations": r.get("penetration_count", 0),
+            "penetration_mm": r.get("penetration_max_m", 0.0) * 1e3,
+            "strain": r.get("strain_max", 0.0),
+            "frame": self.last.frame if self.last is not None else None,
+            "solve_ms": self.last.solve_ms if self.last is not None else 0.0,
+        }
+
+    def stop(self, restore: bool = True) -> None:
+        self.solver.stop()
+        if restore:
+            for name, co in zip(self.piece_names, self.original):
+                o = bpy.data.objects.get(name)
+                if o is not None and len(o.data.vertices) * 3 == len(co):
+                    o.data.vertices.foreach_set("co", co)
+                    o.data.update()
+
+
+def _same_maps(a: list[dict], b: list[dict], key: str) -> bool:
+    for ma, mb in zip(a, b):
+        va, vb = ma.get(key), mb.get(key)
+        if (va is None) != (vb is None):
+            return False
+        if va is not None and not (np.array_equal(va[0], vb[0]) and np.array_equal(va[1], vb[1])):
+            return False
+    return True
+
+
+def _apply_settings(sim, s: core_sim.SimSettings) -> None:
+    sim.settings = s.to_tailor()
+    sim.thickness = float(s.thickness)
+    if sim.self_collision["enabled"] != bool(s.self_collision):
+        sim.set_self_collision(enabled=bool(s.self_collision))
+
+
+def start(context) -> LiveSession:
+    stop(context.scene)
+    session = LiveSession(context)
+    SESSIONS[context.scene.name] = session
+    context.scene.tailor_simulate.live_running = True
+    context.scene.tailor_simulate.adapter = session.adapter
+    return session
+
+
+def stop(scene, restore: bool = True) -> None:
+    session = SESSIONS.pop(scene.name, None)
+    if session is not None:
+        session.stop(restore)
+    scene.tailor_simulate.live_running = False
+
+
+def stop_all() -> None:
+    for name in list(SESSIONS):
+        session = SESSIONS.pop(name)
+        session.stop(restore=bpy.data.scenes.get(name) is not None)
+

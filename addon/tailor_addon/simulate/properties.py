@@ -1,0 +1,161 @@
+"""Simulate settings: `Scene.tailor_simulate` (the panel) and `Object.tailor_collider`."""
+
+from __future__ import annotations
+
+import bpy
+from bpy.props import (
+    BoolProperty,
+    EnumProperty,
+    FloatProperty,
+    FloatVectorProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
+
+import tailor
+
+from ..core.simulate import PRESETS, preset_values
+
+_SETTINGS = tailor.Settings()
+
+
+def _apply_preset(self, _context) -> None:
+    if self.preset in PRESETS:
+        v = preset_values(self.preset)
+        self.substeps, self.iterations, self.tolerance = v["substeps"], v["iterations"], v["tolerance"]
+
+
+class TailorColliderSettings(bpy.types.PropertyGroup):
+    is_collider: BoolProperty(
+        name="Collider",
+        description="The garment collides with this mesh, evaluated with its modifiers (armature, "
+        "shape keys) at every frame",
+        default=False,
+    )
+    friction_static: FloatProperty(name="Static Friction", min=0.0, default=0.5)
+    friction_kinetic: FloatProperty(name="Kinetic Friction", min=0.0, default=0.3)
+    proxy_of: PointerProperty(
+        name="Proxy Of", type=bpy.types.Object, description="The mesh this isotropic collider proxy follows"
+    )
+    # Triangle-size spread (edge-length coefficient of variation, 95th/5th percentile ratio)
+    # of the source and of this proxy, shown in the panel.
+    spread_source_cv: FloatProperty(name="Source Edge CV", precision=3)
+    spread_source_ratio: FloatProperty(name="Source Edge p95/p5", precision=2)
+    spread_proxy_cv: FloatProperty(name="Proxy Edge CV", precision=3)
+    spread_proxy_ratio: FloatProperty(name="Proxy Edge p95/p5", precision=2)
+
+
+class TailorSimulateSettings(bpy.types.PropertyGroup):
+    garment: StringProperty(
+        name="Garment", description="Simulate only this garment (collection name); empty: every piece of the scene"
+    )
+    preset: EnumProperty(
+        name="Quality",
+        items=(
+            ("PREVIEW", "Preview", "Fewer substeps and iterations: interactive Live mode"),
+            ("FINAL", "Final", "The quality the bake is checked at"),
+            ("CUSTOM", "Custom", "Substeps, iterations and tolerance as set below"),
+        ),
+        default="FINAL",
+        update=_apply_preset,
+    )
+    substeps: IntProperty(name="Substeps", description="Solver substeps per frame", min=0, soft_min=1, default=8)
+    iterations: IntProperty(name="Iterations", description="Solver iterations per substep", min=1, default=15)
+    tolerance: FloatProperty(
+        name="Tolerance", description="Relative residual at which iterations stop early (0: run them all)",
+        min=0.0, default=0.0,
+        precision=6,
+    )
+    backend: EnumProperty(
+        name="Backend",
+        items=(
+            ("AUTO", "Auto", "The GPU when the module has one and an adapter exists, else the CPU"),
+            ("CPU", "CPU", "Multi-threaded CPU solver"),
+            ("GPU", "GPU", "wgpu compute (Vulkan, Metal, DX12)"),
+        ),
+        default="AUTO",
+    )
+    adapter: StringProperty(name="Adapter", description="The adapter the last simulation ran on")
+    gravity: FloatVectorProperty(name="Gravity", subtype="ACCELERATION", size=3, default=(0.0, 0.0, -9.81))
+    air_damping: FloatProperty(
+        name="Air Damping", description="Velocity damping per second once the seams are closed", min=0.0,
+        default=_SETTINGS.air_damping, precision=3,
+    )
+    ramp_enabled: BoolProperty(
+        name="Seam Closing Ramp", description="Raise damping while the seams close (paper Sec. 4)", default=True
+    )
+    ramp_closing_speed: FloatProperty(
+        name="Closing Speed", description="Speed at which seams close, m/s (0: at once)", min=0.0,
+        default=_SETTINGS.ramp_closing_speed, unit="VELOCITY",
+    )
+    ramp_closing_damping: FloatProperty(
+        name="Closing Damping", description="Damping while the seams close", min=0.0,
+        default=_SETTINGS.ramp_closing_damping, precision=3,
+    )
+    thickness: FloatProperty(
+        name="Thickness", description="Collision thickness: distance kept from colliders", min=0.0, default=0.004,
+        subtype="DISTANCE", unit="LENGTH", precision=4,
+    )
+    self_collision: BoolProperty(
+        name="Self-Collision", description="Cloth against itself (layered garments; fights closing seams)",
+        default=False,
+    )
+    seam_stiffness: FloatProperty(name="Seam Stiffness", description="N/m, times each seam's factor", min=0.0,
+                                  default=1000.0)
+    seam_bend_stiffness: FloatProperty(name="Seam Bending", min=0.0, default=1e-5, precision=6)
+    friction_static: FloatProperty(name="Static Friction", description="Where not painted", min=0.0, default=0.5)
+    friction_kinetic: FloatProperty(name="Kinetic Friction", description="Where not painted", min=0.0, default=0.3)
+    # Bake
+    use_scene_range: BoolProperty(name="Scene Range", description="Bake the scene's frame range", default=True)
+    frame_start: IntProperty(name="Start", default=1)
+    frame_end: IntProperty(name="End", default=48)
+    preroll: IntProperty(
+        name="Preroll", description="Frames solved at the start frame before it is recorded (the garment "
+        "assembles first)", min=0, default=60,
+    )
+    assemble_at_rest: BoolProperty(
+        name="Assemble at Rest Pose", description="Assemble during the preroll with every armature in its rest "
+        "pose (patterns are placed for it), then move the colliders into the start frame's pose",
+        default=True,
+    )
+    assemble_without_gravity: BoolProperty(
+        name="Assemble Without Gravity", description="No gravity during the preroll: while its seams are open "
+        "the garment has nothing to hang on and would slide off the body",
+        default=True,
+    )
+    transition: IntProperty(
+        name="Transition", description="Frames moving the colliders from the rest pose to the start frame's",
+        min=0, default=40,
+    )
+    cache_dir: StringProperty(
+        name="Cache Folder", description="Where PC2 caches go (// = beside the .blend)", default="//tailor_cache",
+        subtype="DIR_PATH",
+    )
+    cache_mode: EnumProperty(
+        name="Cache",
+        items=(
+            ("PIECE", "Per Piece", "One PC2 per piece, played on the piece by a Mesh Cache modifier"),
+            ("GARMENT", "Per Garment", "One PC2 for the whole garment, played on a joined garment object"),
+        ),
+        default="PIECE",
+    )
+    # Last bake (display)
+    baked_frames: IntProperty(name="Baked Frames", default=0)
+    bake_report: StringProperty(name="Last Bake", description="Summary of the last bake's quality")
+    # Live
+    live_running: BoolProperty(name="Live", default=False, options={"SKIP_SAVE"})
+    show_overlay: BoolProperty(name="Overlay", description="Draw fps, seam gap, penetrations, strain", default=True)
+
+
+classes = (TailorColliderSettings, TailorSimulateSettings)
+
+
+def register() -> None:
+    bpy.types.Object.tailor_collider = PointerProperty(type=TailorColliderSettings)
+    bpy.types.Scene.tailor_simulate = PointerProperty(type=TailorSimulateSettings)
+
+
+def unregister() -> None:
+    del bpy.types.Scene.tailor_simulate
+    del bpy.types.Object.tailor_collider

@@ -1,0 +1,229 @@
+"""The frame loop of a garment-on-collider simulation, shared by every driver.
+
+A bake is: for each frame, the colliders' vertex positions in, one solver frame, the garment's
+positions and quality metrics out. The command line (``tailor simulate``), the Blender add-on's
+Bake and Live modes and pipeline scripts all run this loop; they differ only in where collider
+positions come from (a glTF skin, a PC2 cache, Blender's evaluated meshes) and where positions
+go (a PC2 file, Blender meshes).
+
+``Bake`` keeps every frame it has solved, so a cancelled bake keeps its frames and ``run`` can
+resume where it stopped: the solver state lives on in the same ``Bake`` object, which makes a
+resumed bake bit-for-bit the same as an uninterrupted one (the solver is deterministic). When
+that object is gone (a new session), ``Bake.replay`` rebuilds the state by re-solving the
+frames already cached and checks that they come out identical before going on.
+
+No Blender, no threads here: a driver that wants the loop off its main thread calls ``step``
+from a worker (``Simulation.step`` releases the GIL).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from tailor._tailor import CancelledError, InvalidParameterError, SimulationError, Simulation, write_pc2
+
+#: Quality fields of a frame record, each worst-case over frames in a summary.
+FIELDS = ("seam_gap_max_m", "penetration_count", "penetration_max_m", "self_intersections", "strain_max")
+
+
+def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: int | None = None) -> dict:
+    """The quality of the simulation's current state as one report record."""
+    m = sim.metrics(collider)
+    return {
+        "frame": int(frame),
+        "ms": float(ms),
+        "seam_gap_max_m": float(m["seam_gap"]),
+        "penetration_count": int(m["penetration_count"]),
+        "penetration_max_m": float(m["penetration_max_depth"]),
+        "self_intersections": int(m["self_intersections"]),
+        "strain_max": float(m["strain_max"]),
+        "nan": bool(nan or not np.isfinite(sim.positions).all()),
+    }
+
+
+def summarize(records: Sequence[dict]) -> dict:
+    """Worst case of every quality field over `records`, the mean frame time, any NaN."""
+    if not records:
+        return {"frame": 0, "ms": 0.0, "nan": False, **{k: 0 for k in FIELDS}}
+    s = {k: max(r[k] for r in records) for k in FIELDS}
+    s.update(frame=len(records), ms=float(np.mean([r["ms"] for r in records])), nan=any(r["nan"] for r in records))
+    return s
+
+
+def write_pc2_atomic(path: str | os.PathLike, frames: np.ndarray, start_frame: float, sample_rate: float = 1.0) -> None:
+    """Writes a PC2 cache to a temporary file beside `path`, then renames it over `path`: a
+    reader (Blender's Mesh Cache modifier, another DCC) sees the old cache or the new one,
+    never half a file."""
+    path = os.fspath(path)
+    tmp = f"{path}.partial{os.getpid()}.pc2"
+    try:
+        write_pc2(tmp, np.ascontiguousarray(frames, np.float32), start_frame=float(start_frame),
+                  sample_rate=float(sample_rate))
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def check_collider_positions(name: str, positions: np.ndarray, count: int) -> np.ndarray:
+    """(count, 3) float32 positions of collider `name`, or InvalidParameterError naming the
+    collider and its first bad vertex (before anything is handed to the solver)."""
+    p = np.ascontiguousarray(positions, np.float32).reshape(-1, 3)
+    if len(p) != count:
+        raise InvalidParameterError(f"collider '{name}' has {len(p)} vertices now but {count} when the bake started "
+                                    "(its topology must not change over the frame range)")
+    bad = np.flatnonzero(~np.isfinite(p).all(axis=1))
+    if len(bad):
+        raise InvalidParameterError(f"collider '{name}': vertex {int(bad[0])} is not finite ({p[bad[0]].tolist()}), "
+                                    f"{len(bad)} such vertices")
+    return p
+
+
+@dataclass
+class Collider:
+    """A mesh collider of the bake: its name (for messages), its id in the simulation."""
+
+    name: str
+    id: int
+    num_vertices: int
+
+
+@dataclass
+class Bake:
+    """A running bake: `sim` with its mesh `colliders`, one frame per `step`.
+
+    Frame `start` is the garment as given (no step); each following frame is one step of
+    `1/fps` seconds with the colliders at that frame. Before frame `start` is recorded, the
+    garment assembles: `preroll` steps with the colliders at `assembly` (a pose the pattern is
+    placed for, typically the rest pose; the start frame's positions when None), then
+    `transition` steps moving them linearly from `assembly` to the start frame's positions.
+    With `assembly_gravity` set (typically zero) the preroll runs under that gravity: a garment
+    whose seams are still open has nothing to hang on and would fall off the body while they
+    close. `frames[i]` and `records[i]` are frame `start + i`."""
+
+    sim: Simulation
+    colliders: list[Collider]
+    fps: float
+    start: int
+    preroll: int = 0
+    assembly: Sequence[np.ndarray] | None = None
+    transition: int = 0
+    assembly_gravity: tuple[float, float, float] | None = None
+    frames: list[np.ndarray] = field(default_factory=list)
+    records: list[dict] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    prerolled: bool = False
+
+    @property
+    def next_frame(self) -> int:
+        return self.start + len(self.frames)
+
+    @property
+    def metrics_collider(self) -> int | None:
+        return self.colliders[0].id if self.colliders else None
+
+    def _set_colliders(self, positions: Sequence[np.ndarray]) -> None:
+        if len(positions) != len(self.colliders):
+            raise InvalidParameterError(f"{len(positions)} collider position arrays for {len(self.colliders)} colliders")
+        checked = [check_collider_positions(c.name, p, c.num_vertices) for c, p in zip(self.colliders, positions)]
+        for c, p in zip(self.colliders, checked):
+            self.sim.set_collider_positions(c.id, p)
+
+    def step(self, collider_positions: Sequence[np.ndarray]) -> dict:
+        """Solves frame `next_frame` with the colliders at `collider_positions` (one (n, 3)
+        array per collider, world space) and records it. The first call runs the preroll and
+        records the start frame. Raises `InvalidParameterError` (bad collider) or
+        `SimulationError` (the solve diverged; the simulation is rolled back) and records
+        nothing in that case."""
+        t0 = time.perf_counter()
+        if not self.frames:
+            if not self.prerolled:
+                self._assemble(collider_positions)
+            self._set_colliders(collider_positions)
+        else:
+            self._set_colliders(collider_positions)
+            self.sim.step(1.0 / self.fps)
+        ms = (time.perf_counter() - t0) * 1e3
+        pos = self.sim.positions
+        rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider)
+        self.frames.append(pos)
+        self.records.append(rec)
+        return rec
+
+    def _assemble(self, start_positions: Sequence[np.ndarray]) -> None:
+        dt = 1.0 / self.fps
+        pose = self.assembly if self.assembly is not None else start_positions
+        if self.preroll > 0:
+            self._set_colliders(pose)
+            if self.assembly_gravity is None:
+                self.sim.step(dt, self.preroll)
+            else:
+                settings = self.sim.settings
+                gravity = settings.gravity
+                settings.gravity = tuple(self.assembly_gravity)
+                self.sim.settings = settings
+                try:
+                    self.sim.step(dt, self.preroll)
+                finally:
+                    settings.gravity = gravity
+                    self.sim.settings = settings
+        if self.assembly is not None and self.transition > 0:
+            a = [np.asarray(p, np.float32) for p in self.assembly]
+            b = [np.asarray(p, np.float32) for p in start_positions]
+            for k in range(1, self.transition + 1):
+                t = k / self.transition
+                self._set_colliders([(1.0 - t) * pa + t * pb for pa, pb in zip(a, b)])
+                self.sim.step(dt)
+        self.prerolled = True
+
+    def run(
+        self,
+        collider_positions_at: Callable[[int], Sequence[np.ndarray]],
+        end: int,
+        cancel: Callable[[], bool] | None = None,
+        on_frame: Callable[[dict], None] | None = None,
+    ) -> bool:
+        """Steps up to frame `end` (inclusive) from `next_frame`. `cancel()` is asked before
+        every frame: when it says yes the loop stops, keeping the frames done, and returns
+        False (call `run` again to resume). Returns True when `end` is reached."""
+        while self.next_frame <= end:
+            if cancel is not None and cancel():
+                return False
+            rec = self.step(collider_positions_at(self.next_frame))
+            if on_frame is not None:
+                on_frame(rec)
+        return True
+
+    def replay(self, cached: np.ndarray, collider_positions_at: Callable[[int], Sequence[np.ndarray]],
+               cancel: Callable[[], bool] | None = None, atol: float = 0.0) -> None:
+        """Rebuilds the state at the end of `cached` ((k, n, 3): frames start..start+k-1 of an
+        earlier bake with the same garment, colliders and settings) by solving them again, and
+        checks that every frame comes out identical (within `atol` metres: a cache stored in
+        another frame of reference has rounding of its own). Raises `SimulationError` when one differs
+        (the scene or settings changed since: bake again from the start), `CancelledError` when
+        cancelled."""
+        cached = np.asarray(cached, np.float32)
+        for k in range(len(cached)):
+            if cancel is not None and cancel():
+                raise CancelledError(f"resuming stopped while re-solving frame {self.next_frame}")
+            self.step(collider_positions_at(self.next_frame))
+            diff = float(np.abs(self.frames[-1] - cached[k]).max()) if self.frames[-1].shape == cached[k].shape else np.inf
+            if not diff <= atol:
+                raise SimulationError(
+                    f"the cache differs from a new solve at frame {self.start + k} (by {diff:.3g} m): the garment, "
+                    "colliders or settings changed since it was baked; bake again from the start"
+                )
+
+    def summary(self) -> dict:
+        return summarize(self.records)
+
+    def positions(self) -> np.ndarray:
+        """(frames, n, 3) float32: every frame solved so far."""
+        if not self.frames:
+            return np.zeros((0, self.sim.num_particles, 3), np.float32)
+        return np.stack(self.frames)

@@ -1,0 +1,87 @@
+"""Live mode through its non-modal entry point (`tailor.live_step`): the same session, worker
+thread and main-thread apply as the modal timer, ticked by the test. The modal operator itself
+needs a window: the interactive tests run it under Xvfb (docs/addon.md)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+import bpy
+
+from simulate_scene import shirt_on_character
+
+
+def mesh_co(obj) -> np.ndarray:
+    co = np.empty(len(obj.data.vertices) * 3, np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+@pytest.fixture
+def live_scene(addon, tmp_path):
+    sc = shirt_on_character(tmp_path / "scene.blend", frames=(1, 32))
+    yield sc
+    bpy.ops.tailor.live_stop()
+
+
+def test_live_follows_the_timeline_applies_edits_and_restores(addon, live_scene):
+    scene, pieces = live_scene["scene"], live_scene["pieces"]
+    live = addon.simulate.live
+    before = {o.name: mesh_co(o) for o in pieces}
+    assert bpy.ops.tailor.live_step(count=3, advance=True) == {"FINISHED"}
+    session = live.SESSIONS[scene.name]
+    assert scene.tailor_simulate.live_running and scene.frame_current == 4
+    assert session.frames_applied == 3 and session.last.frame == 4
+    moved = max(np.abs(mesh_co(o) - before[o.name]).max() for o in pieces)
+    assert moved > 1e-3  # the solved positions were written into the pieces
+    stats = session.stats()
+    assert stats["fps"] > 0 and stats["seam_gap_mm"] > 0 and np.isfinite(stats["strain"])
+    assert addon.simulate.draw.overlay_lines(stats)[0].startswith("Tailor Live")
+    # Edits apply without a restart: pin a whole piece (painted) and stiffen a fabric.
+    pinned = bpy.data.objects["left_btorso"]
+    vg = pinned.vertex_groups.new(name="tailor_pin")
+    vg.add(list(range(len(pinned.data.vertices))), 1.0, "REPLACE")
+    pieces[0].tailor_piece.stretch *= 2
+    solver = session.solver
+    assert bpy.ops.tailor.live_step(count=live.MAPS_EVERY + 1, advance=True) == {"FINISHED"}
+    assert live.SESSIONS[scene.name] is session and session.solver is solver
+    assert session.fabrics[0].stretch == pieces[0].tailor_piece.stretch
+    assert len(session.hard_pins) == len(pinned.data.vertices)
+    # Hard pins hold the painted vertices where the artist placed them.
+    np.testing.assert_allclose(mesh_co(pinned), before[pinned.name], atol=1e-5)
+    # Stopping puts every piece back as it was.
+    assert bpy.ops.tailor.live_stop() == {"FINISHED"}
+    assert scene.name not in live.SESSIONS and not scene.tailor_simulate.live_running
+    for o in pieces:
+        np.testing.assert_array_equal(mesh_co(o), before[o.name])
+
+
+def test_the_solve_runs_off_the_main_thread_with_the_gil_released(addon, live_scene):
+    scene = live_scene["scene"]
+    assert bpy.ops.tailor.live_step(count=1) == {"FINISHED"}
+    session = addon.simulate.live.SESSIONS[scene.name]
+    assert session.submit(bpy.context)
+    # While the worker solves, Python keeps running here: the step released the GIL.
+    spins, t0 = 0, time.perf_counter()
+    result = None
+    while result is None and time.perf_counter() - t0 < 60:
+        result = session.solver.poll()
+        spins += 1
+    assert result is not None and result.error is None
+    assert result.solve_ms > 1.0
+    assert spins > 100, (spins, result.solve_ms)  # the main thread was never blocked for the solve
+
+
+def test_live_with_a_bad_setting_reports_and_changes_nothing(addon, live_scene):
+    scene, pieces = live_scene["scene"], live_scene["pieces"]
+    before = {o.name: mesh_co(o) for o in pieces}
+    scene.tailor_simulate.preset = "CUSTOM"
+    scene.tailor_simulate.substeps = 0
+    with pytest.raises(RuntimeError, match="Live simulation failed: substeps is 0"):
+        bpy.ops.tailor.live_step(count=2)
+    assert scene.name not in addon.simulate.live.SESSIONS and not scene.tailor_simulate.live_running
+    for o in pieces:
+        np.testing.assert_array_equal(mesh_co(o), before[o.name])

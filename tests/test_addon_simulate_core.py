@@ -1,0 +1,122 @@
+"""The add-on's bpy-free simulation builder and Live worker (`core/simulate.py`,
+`core/simulate_live.py`), against the module, without Blender."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tailor
+from tailor import bake
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "addon"))
+from tailor_addon.core import garment_from_scene, piece_mesh  # noqa: E402
+from tailor_addon.core import simulate as core_sim  # noqa: E402
+from tailor_addon.core.garment import PieceData  # noqa: E402
+from tailor_addon.core.simulate_live import LiveSolver  # noqa: E402
+
+def two_pieces():
+    pattern = tailor.read_pattern(str(ROOT / "native/tailor-core/tests/data/garmentcode/shirt_mean_specification.json"))
+    pieces = []
+    for k, p in enumerate(pattern.pieces[:2]):
+        js = p.to_json()
+        m = piece_mesh(js, 0.05)
+        pos = np.concatenate([m.rest, np.full((len(m.rest), 1), 0.3 * k, np.float32)], axis=1)
+        pieces.append(PieceData(p.name, js, 0.05, pos.astype(np.float32), None))
+    return garment_from_scene(pieces, [])
+
+
+def box():
+    v = np.array([[x, y, z] for z in (-1.0, -0.5) for y in (-1.0, 1.0) for x in (-1.0, 1.0)], np.float32)
+    t = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                  [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], np.int64)
+    return v, t
+
+
+def test_presets_settings_and_backend_passthrough():
+    assert core_sim.preset_values("PREVIEW")["substeps"] < core_sim.preset_values("FINAL")["substeps"]
+    s = core_sim.SimSettings(substeps=3, iterations=7, gravity=(0, 0, -1), air_damping=0.5).to_tailor()
+    assert (s.substeps, s.iterations, s.air_damping) == (3, 7, 0.5) and tuple(s.gravity) == (0, 0, -1)
+    with pytest.raises(tailor.InvalidParameterError, match="substeps is 0"):
+        core_sim.SimSettings(substeps=0).to_tailor()
+    support = core_sim.backend_support()
+    assert support in (None, "settings", "simulation")
+    if support == "settings":
+        assert core_sim.SimSettings(backend="cpu").to_tailor().backend == "cpu"
+    else:  # this build: CPU only, and the adapter line says so
+        assert "CPU" in core_sim.adapter_of(object())
+
+
+def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
+    g = two_pieces()
+    n0 = int(g.offsets[1])
+    fabrics = [core_sim.PieceFabric(0.2, 600.0, 60.0, 2e-5), core_sim.PieceFabric(0.4, 1200.0, 60.0, 4e-5)]
+    pin = np.zeros(n0, np.float32)
+    pin[:3] = 1.0
+    pin[3:5] = 0.5
+    maps = [{"pin": (pin, pin > 0), "collision_level": (np.full(n0, 2, np.int32), np.ones(n0, bool))}, {}]
+    v, t = box()
+    built = core_sim.build(g, core_sim.SimSettings(), fabrics, maps, [core_sim.ColliderData("box", v, t)])
+    sim = built.sim
+    assert "different bending stiffness" in built.warnings[0]
+    # The second piece's density is twice the first's: its particles weigh twice as much as with
+    # one fabric for both.
+    same = core_sim.build(g, core_sim.SimSettings(), [fabrics[0]] * 2, maps, [core_sim.ColliderData("box", v, t)])
+    np.testing.assert_allclose(sim.masses[n0:], 2 * same.sim.masses[n0:], rtol=1e-6)
+    np.testing.assert_allclose(sim.masses[:n0], same.sim.masses[:n0], rtol=1e-6)
+    assert (sim.particle_levels[:n0] == 2).all() and (sim.particle_levels[n0:] == 0).all()
+    hard, soft = core_sim.pin_sets(g, maps)
+    assert hard.tolist() == [0, 1, 2] and [(w, p.tolist()) for w, p in soft] == [(0.5, [3, 4])]
+    before = sim.positions[:3].copy()
+    sim.step(1 / 30)
+    np.testing.assert_array_equal(sim.positions[:3], before)  # hard pins stay
+    assert built.colliders[0].name == "box" and sim.num_mesh_colliders == 1
+    bad = v.copy()
+    bad[2, 0] = np.inf
+    with pytest.raises(tailor.InvalidParameterError, match="collider 'box': vertex 2 is not finite"):
+        core_sim.build(g, core_sim.SimSettings(), fabrics, maps, [core_sim.ColliderData("box", bad, t)])
+
+
+def test_triangle_size_spread():
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [10, 0, 0]], np.float32)
+    even = core_sim.triangle_size_spread(v, [[0, 1, 2]])
+    uneven = core_sim.triangle_size_spread(v, [[0, 1, 2], [0, 3, 2]])
+    assert even["edge_cv"] < uneven["edge_cv"] and even["edge_p95_p5"] < uneven["edge_p95_p5"]
+
+
+def test_live_solver_steps_on_its_thread_and_applies_edits():
+    g = two_pieces()
+    v, t = box()
+    fabrics = [core_sim.PieceFabric(0.15, 600.0, 60.0, 2e-5)] * 2
+    built = core_sim.build(g, core_sim.SimSettings(), fabrics, [{}, {}], [core_sim.ColliderData("box", v, t)])
+    solver = LiveSolver(bake.Bake(built.sim, built.colliders, 30.0, 1))
+    try:
+        seen = []
+        assert solver.submit(1, [v], [lambda sim: seen.append(sim.num_particles)])
+        r = solver.wait(30)
+        assert r is not None and r.error is None and r.frame == 1 and seen == [g.num_particles]
+        assert r.positions.shape == (g.num_particles, 3)
+        bad = v.copy()
+        bad[0] = np.nan
+        assert solver.submit(2, [bad])
+        r = solver.wait(30)
+        assert isinstance(r.error, tailor.InvalidParameterError)
+    finally:
+        solver.stop()
+    with pytest.raises(RuntimeError, match="stopped"):
+        solver.submit(3, [v])
+    # The modal bake's use: every frame kept; stop lets a frame in progress finish (and drops
+    # one not started yet): the frames kept are whole and in order either way.
+    built = core_sim.build(g, core_sim.SimSettings(), fabrics, [{}, {}], [core_sim.ColliderData("box", v, t)])
+    run = bake.Bake(built.sim, built.colliders, 30.0, 1)
+    keeper = LiveSolver(run, keep_frames=True)
+    for f in (1, 2, 3):
+        assert keeper.submit(f, [v])
+        assert keeper.wait(30).error is None
+    assert keeper.submit(4, [v])
+    keeper.stop(timeout=None)
+    kept = len(run.records)
+    assert kept in (3, 4) and len(run.frames) == kept
+    assert [r["frame"] for r in run.records] == list(range(1, kept + 1))

@@ -1,0 +1,99 @@
+"""tailor.bake: the frame loop shared by the CLI and the Blender add-on (no Blender here)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import tailor
+from tailor import bake
+
+
+def box(size: float, z: float) -> tuple[np.ndarray, np.ndarray]:
+    """A closed axis-aligned box (8 vertices, 12 outward triangles) centred at (0, 0, z)."""
+    h = size / 2
+    v = np.array([[x, y, zz] for zz in (-h, h) for y in (-h, h) for x in (-h, h)], np.float32)
+    v[:, 2] += z
+    t = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                  [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], np.int64)
+    return v, t
+
+
+def new_bake(square, **kw) -> bake.Bake:
+    pos, tris, rest = square
+    pos = pos - np.array([0.1, 0.1, -0.05], np.float32)  # centred, 5 cm above the box
+    sim = tailor.Simulation(pos, tris, rest, settings=tailor.Settings(substeps=2, iterations=5))
+    v, t = box(0.3, -0.15)
+    cid = sim.add_mesh_collider(v, t)
+    return bake.Bake(sim, [bake.Collider("box", cid, len(v))], fps=30.0, start=1, **kw)
+
+
+def moving_box(frame: int) -> list[np.ndarray]:
+    v, _ = box(0.3, -0.15 + 0.002 * frame)
+    return [v]
+
+
+def test_frames_records_and_cancel_resume_are_the_uninterrupted_run(square):
+    whole = new_bake(square, preroll=3)
+    assert whole.run(moving_box, 8) is True
+    assert [r["frame"] for r in whole.records] == list(range(1, 9))
+    assert set(bake.FIELDS) <= set(whole.records[0]) and not whole.summary()["nan"]
+    parted = new_bake(square, preroll=3)
+    assert parted.run(moving_box, 8, cancel=lambda: len(parted.frames) >= 3) is False
+    assert parted.next_frame == 4
+    assert parted.run(moving_box, 8) is True
+    np.testing.assert_array_equal(parted.positions(), whole.positions())
+    # A new session: the cached frames are solved again, checked, and the bake goes on.
+    replayed = new_bake(square, preroll=3)
+    replayed.replay(whole.positions()[:5], moving_box)
+    replayed.run(moving_box, 8)
+    np.testing.assert_array_equal(replayed.positions(), whole.positions())
+
+
+def test_replay_refuses_a_cache_of_another_scene(square):
+    other = new_bake(square, preroll=3)
+    other.run(moving_box, 3)
+    with pytest.raises(tailor.SimulationError, match="differs from a new solve at frame 1"):
+        new_bake(square, preroll=0).replay(other.positions(), moving_box)
+
+
+def test_assembly_pose_transition_and_gravity(square):
+    """The preroll runs at the assembly pose under the assembly gravity, then the colliders move
+    to the start frame's pose; the gravity is put back after."""
+    far = [box(0.3, -5.0)[0]]  # no contact during the preroll
+    b = new_bake(square, preroll=10, assembly=far, assembly_gravity=(0.0, 0.0, 0.0))
+    g = tuple(b.sim.settings.gravity)
+    b.step(moving_box(1))
+    np.testing.assert_allclose(b.frames[0][:, 2], 0.05, atol=1e-4)  # no gravity in the preroll: it stayed
+    assert tuple(b.sim.settings.gravity) == g
+    b.step(moving_box(2))
+    assert b.frames[1][:, 2].max() < 0.05  # gravity again
+    fallen = new_bake(square, preroll=10, assembly=far)
+    fallen.step(moving_box(1))
+    assert fallen.frames[0][:, 2].max() < 0.0  # under gravity it fell past the (far) box's top
+    moved = new_bake(square, preroll=2, assembly=far, transition=4)
+    moved.step(moving_box(1))
+    np.testing.assert_allclose(moved.sim.collider_positions(0), moving_box(1)[0], atol=1e-6)
+
+
+def test_bad_collider_positions_name_the_collider_and_vertex(square):
+    b = new_bake(square)
+    v = moving_box(1)[0].copy()
+    v[5, 1] = np.nan
+    with pytest.raises(tailor.InvalidParameterError, match=r"collider 'box': vertex 5 is not finite"):
+        b.step([v])
+    with pytest.raises(tailor.InvalidParameterError, match="has 7 vertices now but 8"):
+        b.step([v[:7]])
+    assert not b.frames
+
+
+def test_pc2_written_atomically(tmp_path, square):
+    b = new_bake(square)
+    b.run(moving_box, 4)
+    path = tmp_path / "cache.pc2"
+    bake.write_pc2_atomic(path, b.positions(), start_frame=1)
+    assert [p.name for p in tmp_path.iterdir()] == ["cache.pc2"]
+    np.testing.assert_array_equal(tailor.read_pc2(str(path))["frames"], b.positions())
+    with pytest.raises(tailor.TailorError):
+        bake.write_pc2_atomic(tmp_path / "missing" / "x.pc2", b.positions(), start_frame=1)
+    assert [p.name for p in tmp_path.iterdir()] == ["cache.pc2"]

@@ -127,7 +127,9 @@ fn check_ok(p: &Pattern) {
     }
 }
 
-/// Runs one input, failing the test on a panic or when it takes longer than `limit`.
+/// Runs one input, failing the test on a panic or when it takes longer than `limit`. The limits
+/// are hang guards (a reader looping forever), set far above the milliseconds an input takes so
+/// that a loaded CI machine cannot trip them; speed is not what this test checks.
 fn run(name: &str, bytes: &[u8], opts: &ReadOptions, what: &str, limit: Duration) -> bool {
     let t = Instant::now();
     let r = catch_unwind(AssertUnwindSafe(|| read_pattern_bytes(Path::new(name), bytes, opts).map(|p| check_ok(&p))));
@@ -162,7 +164,7 @@ fn mutated_files_never_panic_or_hang() {
         if std::env::var("TAILOR_FUZZ_TRACE").is_ok() {
             eprintln!("case {case}: {name} [{what}] tol {}", opts.tolerance_m);
         }
-        if run(&name, &bytes, &opts, &what, Duration::from_secs(2)) {
+        if run(&name, &bytes, &opts, &what, Duration::from_secs(30)) {
             ok += 1;
         } else {
             err += 1;
@@ -170,13 +172,12 @@ fn mutated_files_never_panic_or_hang() {
     }
     let took = start.elapsed();
     println!("{cases} mutated cases over {} files: {ok} read, {err} rejected, {took:?}", corpus.len());
-    assert!(took < Duration::from_secs(20).max(Duration::from_millis(5) * cases as u32), "fuzzing took {took:?}");
 }
 
 #[test]
 fn adversarial_inputs_terminate() {
     let opts = ReadOptions { tolerance_m: 1e-6, ..Default::default() };
-    let lim = Duration::from_secs(5);
+    let lim = Duration::from_secs(60);
     // A block that inserts itself.
     let rec = "0\nSECTION\n2\nBLOCKS\n0\nBLOCK\n2\nB\n0\nINSERT\n2\nB\n0\nLWPOLYLINE\n70\n1\n10\n0\n20\n0\n10\n1\n20\n0\n10\n1\n20\n1\n0\nENDBLK\n0\nENDSEC\n0\nSECTION\n2\nENTITIES\n0\nINSERT\n2\nB\n0\nENDSEC\n0\nEOF\n";
     assert!(!run("rec.dxf", rec.as_bytes(), &opts, "recursive insert", lim));

@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.tailor-built
 SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o -name '*.pyi' -o -name '*.wgsl') Cargo.toml pyproject.toml
 
-.PHONY: demo test test-rust test-python bench setup develop clean
+.PHONY: demo test test-rust test-python bench bench-error stress setup develop clean
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -28,6 +28,15 @@ test-python: develop
 ## Benchmarks (print figures; not part of the tests).
 bench: develop
 	cargo bench -p tailor-core --bench solver
+
+## Run time against error and the quality presets: out/bench/*.json, docs/img/*.png, docs/accuracy.md.
+bench-error: setup
+	cargo run --release -p tailor-core --example accuracy -- --out out/bench --sizes 1000,10000 --frames 45
+	$(PY) bench/plot_accuracy.py out/bench
+
+## The whole numerical stress suite (docs/stability.md); `make test` runs a quick subset.
+stress:
+	cargo run --release -p tailor-core --example stress -- --out docs/stability.md
 
 setup: $(VENV)/.tailor-setup
 

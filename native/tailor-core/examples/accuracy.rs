@@ -2,7 +2,7 @@
 //! frozen states of four scenes, and the quality of whole animations in each quality preset.
 //!
 //! `cargo run --release -p tailor-core --example accuracy -- [--out DIR] [--sizes 1000,10000,100000]
-//! [--only steps|animations] [--frames N]` (what `make bench-error` runs, before plotting).
+//! [--only steps|animations|candidates] [--frames N]` (what `make bench-error` runs, before plotting).
 //!
 //! **Steps** (`DIR/steps.json`, `DIR/steps.csv`): each scene is advanced with the default
 //! settings to its frozen states (early, during seam closing or swinging, settled); at each, one
@@ -325,6 +325,52 @@ fn animations(frames: usize) -> Vec<Value> {
     out
 }
 
+/// The preset candidates on the shirt walking (1k particles, 60 frames): the sweep the presets
+/// were chosen from (`--only candidates`).
+fn candidates() -> Vec<Value> {
+    let mut out = Vec::new();
+    for (s, i, tol) in [
+        (2u32, 10u32, 1e-2f32),
+        (3, 10, 1e-2),
+        (4, 10, 1e-2),
+        (3, 15, 1e-2),
+        (4, 20, 0.0),
+        (6, 30, 1e-4),
+        (8, 15, 1e-4),
+        (8, 20, 1e-4),
+    ] {
+        let settings = SolverSettings { substeps: s, iterations: i, tolerance: tol, ..Default::default() };
+        let Some(mut run) = build("shirt-walk", 1_000, settings) else {
+            println!("shirt-walk: the shared body is absent: skipped");
+            break;
+        };
+        let (mut pen, mut depth, mut strain, mut gap) = (0u64, 0.0f64, 0.0f64, 0.0f64);
+        let mut ms = Vec::new();
+        for f in 1..=60 {
+            let t0 = Instant::now();
+            run.step();
+            ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            if f > 30 && f % 5 == 0 {
+                let q = run.metrics();
+                pen = pen.max(q["penetration_count"].as_u64().unwrap());
+                depth = depth.max(q["penetration_max_m"].as_f64().unwrap());
+                strain = strain.max(q["strain_max"].as_f64().unwrap());
+                gap = gap.max(q["seam_gap_m"].as_f64().unwrap());
+            }
+        }
+        println!(
+            "{s} x {i}, tolerance {tol:e}: {:.1} ms/frame median | frames 31-60: seam gap {:.2} mm, penetrations \
+             {pen} ({:.1} mm), strain max {strain:.3}",
+            median(&ms),
+            gap * 1e3,
+            depth * 1e3
+        );
+        out.push(json!({"substeps": s, "iterations": i, "tolerance": tol, "ms_median": median(&ms),
+            "seam_gap_max_m": gap, "penetration_count_max": pen, "penetration_max_m": depth, "strain_max": strain}));
+    }
+    out
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let opt = |k: &str| args.iter().position(|a| a == k).and_then(|i| args.get(i + 1)).cloned();
@@ -350,6 +396,11 @@ fn main() {
         let s = steps(&sizes, &mut csv);
         let doc = json!({"header": header, "machine_after": machine(), "steps": s});
         std::fs::write(out.join("steps.json"), serde_json::to_string(&doc).unwrap()).unwrap();
+    }
+    if only == "candidates" {
+        let c = candidates();
+        let doc = json!({"header": header, "machine_after": machine(), "candidates": c});
+        std::fs::write(out.join("candidates.json"), serde_json::to_string(&doc).unwrap()).unwrap();
     }
     if only.is_empty() || only == "animations" {
         let a = animations(frames);

@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon
+.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon bench-error stress
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -64,6 +64,15 @@ samples-character: setup
 bench-peers: develop
 	bash bench/peers/setup.sh
 	$(PY) bench/peers/run.py
+
+## Run time against error and the quality presets: out/bench/*.json, docs/img/*.png, docs/accuracy.md.
+bench-error: setup
+	cargo run --release -p tailor-core --example accuracy -- --out out/bench --sizes 1000,10000 --frames 45
+	$(PY) bench/plot_accuracy.py out/bench
+
+## The whole numerical stress suite (docs/stability.md); `make test` runs a quick subset.
+stress:
+	cargo run --release -p tailor-core --example stress -- --out docs/stability.md
 
 setup: $(VENV)/.tailor-setup
 

@@ -45,6 +45,19 @@ def test_step_frames_and_settings_round_trip(square):
     assert 0.8 * 0.5 * 9.81 * 0.05**2 < drop < 1.2 * 0.5 * 9.81 * 0.05**2
 
 
+def test_quality_presets(tube):
+    assert tailor.Settings.presets() == ["preview", "final"]
+    preview, final = tailor.Settings.preset("preview"), tailor.Settings.preset("final")
+    assert preview.substeps * preview.iterations < final.substeps * final.iterations
+    assert preview.tolerance > final.tolerance > 0
+    sim = make_tube_sim(tube, gravity=(0.0, 0.0, 0.0))
+    sim.settings = preview
+    st = sim.step(1 / 30)
+    assert st["substeps"] == preview.substeps and st["iterations"] <= preview.substeps * preview.iterations
+    with pytest.raises(tailor.InvalidParameterError, match="preset"):
+        tailor.Settings.preset("fast")
+
+
 def test_pins_attachments_and_masses(square):
     pos, tris, rest = square
     sim = tailor.Simulation(pos, tris, rest, tailor.Fabric(density=0.2))

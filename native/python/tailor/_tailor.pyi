@@ -52,6 +52,10 @@ class Settings:
     chebyshev_rho: float | None
     colouring_seed: int
     def __init__(self, **kwargs: Any) -> None: ...
+    @staticmethod
+    def preset(name: str) -> Settings: ...
+    @staticmethod
+    def presets() -> list[str]: ...
 
 class Simulation:
     num_particles: int

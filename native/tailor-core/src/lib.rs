@@ -23,6 +23,7 @@
 //!   it (mesh collider, self-collision pairs, intersection tests, quality metrics).
 //! * `gpu` (feature `gpu`): the per-frame solve on the GPU with wgpu (WGSL compute shaders),
 //!   chosen through [`solver::Solver`]'s [`solver::Backend`].
+//! * [`stability`]: the numerical stress cases (`tests/stability.rs`, `make stress`).
 //! * [`io`]: triangle meshes from OBJ, PLY and glTF (skinned animation included) and the
 //!   Point Cache 2 vertex-animation format.
 //!
@@ -42,6 +43,7 @@ pub mod placement;
 pub mod scenes;
 pub mod seam;
 pub mod solver;
+pub mod stability;
 pub mod triangulate;
 
 #[cfg(test)]

@@ -88,6 +88,47 @@ pub fn sewn_tube(width: f32, height: f32, edge: f32, gap: f32, bottom_z: f32, se
     Ok(SewnTube { mesh, seams, panel_vertices: nv })
 }
 
+/// The sewn tube of the benchmarks: cells of `edge` metres, square panels sized so that the two
+/// panels together have close to `particles` particles, starting 2 cm apart with their bottom
+/// at z = 0 (seams of 1000 N/m).
+pub fn sewn_tube_of(particles: usize, edge: f32) -> Result<SewnTube> {
+    let side = ((particles as f32 / 2.0).sqrt() - 1.0).max(2.0) * edge;
+    sewn_tube(side, side, edge, 0.02, 0.0, 1000.0)
+}
+
+/// A hanging sheet: a square of side `size` with close to `particles` particles, lying flat
+/// (z = `height`) and pinned at the two corners of one edge, so that it swings down and
+/// settles hanging. Returns the mesh and the pinned particles.
+pub fn hanging_sheet(particles: usize, size: f32, height: f32) -> Result<(ClothMesh, Vec<u32>)> {
+    let n = ((particles as f32).sqrt() - 1.0).round().max(2.0) as usize;
+    let (rest, tris) = rectangle(size, size, n, n);
+    let positions = rest.iter().map(|r| [r[0] - size / 2.0, r[1] - size / 2.0, height]).collect();
+    let pins = vec![(n * (n + 1)) as u32, ((n + 1) * (n + 1) - 1) as u32];
+    Ok((ClothMesh::new(positions, rest, tris)?, pins))
+}
+
+/// Two square layers of `side` metres with `n × n` cells each, stacked `spacing` apart along
+/// `up` (a unit axis) with their centre at `centre`: a layered garment for self-collision.
+pub fn two_layers(centre: [f32; 3], up: [f32; 3], side: f32, n: usize, spacing: f32) -> Result<ClothMesh> {
+    let (rest, tris) = rectangle(side, side, n, n);
+    let up = Vec3::from(up).normalize();
+    let u = up.any_orthonormal_vector();
+    let w = up.cross(u);
+    let c = Vec3::from(centre);
+    let mut pos = Vec::with_capacity(2 * rest.len());
+    let mut all_rest = Vec::with_capacity(2 * rest.len());
+    for layer in 0..2 {
+        for r in &rest {
+            let p = c + u * (r[0] - 0.5 * side) + w * (r[1] - 0.5 * side) + up * (layer as f32 * spacing);
+            pos.push(p.into());
+            all_rest.push([r[0] + layer as f32 * (side + 0.1), r[1]]);
+        }
+    }
+    let k = rest.len() as u32;
+    let all_tris = tris.iter().copied().chain(tris.iter().map(|t| t.map(|v| v + k))).collect();
+    ClothMesh::new(pos, all_rest, all_tris)
+}
+
 /// Subdivided icosahedron on a sphere of `radius`, outward winding: `10·4^k + 2` vertices.
 pub fn icosphere(subdiv: u32, radius: f32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     let t = (1.0 + 5f32.sqrt()) / 2.0;

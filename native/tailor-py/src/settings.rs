@@ -52,7 +52,8 @@ impl From<&Fabric> for core::Fabric {
 pub struct Settings {
     pub substeps: u32,
     pub iterations: u32,
-    /// Relative residual at which a substep stops early (0 = always run `iterations`).
+    /// Stop a substep when the force the last sweep corrected is under this fraction of the
+    /// larger of its first value and the cloth's weight (0 = always run `iterations`).
     pub tolerance: f32,
     pub method: String,
     pub gravity: [f32; 3],
@@ -87,6 +88,19 @@ impl Settings {
         }
         let out = obj.borrow().clone();
         Ok(out)
+    }
+
+    /// A quality preset of the core ("preview" or "final"): substeps, iterations and
+    /// tolerance chosen from the run-time-against-error benchmark (docs/accuracy.md).
+    #[staticmethod]
+    fn preset(name: &str) -> PyResult<Self> {
+        Ok(Self::from(&core::SolverSettings::preset(name).map_err(to_py)?))
+    }
+
+    /// The preset names, fastest first.
+    #[staticmethod]
+    fn presets() -> Vec<&'static str> {
+        core::PRESETS.to_vec()
     }
 
     fn __repr__(&self) -> String {

@@ -93,42 +93,107 @@ impl Simulation {
         iterations: u32,
         ro: ReferenceOptions,
     ) -> Result<StepMeasurement> {
+        let mut out = self.measure_frozen(h, &[(method, iterations)], ro, &|_| true, false)?;
+        Ok(out.methods.remove(0))
+    }
+
+    /// Measures several methods on the same frozen substep against one reference solve, and
+    /// the reference solver's own convergence (its iterates against its final solution, its
+    /// time including the factorisation). Only the iterations `keep(k)` accepts (1-based) are
+    /// recorded, plus the last of each run, so long runs can be sampled on a log scale.
+    /// The simulation is left unchanged.
+    pub fn measure_methods(
+        &mut self,
+        dt: f32,
+        methods: &[(Method, u32)],
+        reference: ReferenceOptions,
+        keep: &dyn Fn(u32) -> bool,
+    ) -> Result<MethodsMeasurement> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(TailorError::setting("dt", dt, "the time step must be positive and finite"));
+        }
+        if let Some((_, 0)) = methods.iter().find(|(_, n)| *n == 0) {
+            return Err(TailorError::setting("iterations", 0, "must be at least 1"));
+        }
+        let saved = self.save_state();
+        let result = self.measure_frozen(dt / self.settings.substeps as f32, methods, reference, keep, true);
+        self.restore_state(saved);
+        result
+    }
+
+    fn measure_frozen(
+        &mut self,
+        h: f32,
+        methods: &[(Method, u32)],
+        ro: ReferenceOptions,
+        keep: &dyn Fn(u32) -> bool,
+        record_reference: bool,
+    ) -> Result<MethodsMeasurement> {
         self.prepare(h);
         self.predict(h);
         self.detect_contacts_now();
         let x0 = self.x.clone();
-        let (x_ref, reference) = self.reference_solve(ro.max_iterations, ro.tolerance_m)?;
+        let mut ref_iterates: Vec<(u32, f64, Vec3Soa)> = Vec::new();
+        let (x_ref, reference) = {
+            let mut observe = |k: u32, secs: f64, x: &Vec3Soa| {
+                if record_reference && keep(k) {
+                    ref_iterates.push((k, secs, x.clone()));
+                }
+            };
+            self.reference_solve_observed(ro.max_iterations, ro.tolerance_m, &mut observe)?
+        };
+        if record_reference && ref_iterates.last().is_none_or(|r| r.0 != reference.iterations) {
+            ref_iterates.push((reference.iterations, reference.seconds, x_ref.clone()));
+        }
         let e_ref = self.objective(&x_ref);
         let e0 = self.objective(&x0);
         let g0 = self.gradient_norm(&x0).max(1e-300);
         let d0 = distance(&x0, &x_ref).0.max(1e-300);
         let g_ref = self.gradient_norm(&x_ref);
         let reference = ReferenceInfo { gradient_rel: g_ref / g0, ..reference };
-
-        self.x.copy_from(&x0);
-        let mut records = Vec::with_capacity(iterations as usize);
-        let mut timings = StageTimings::default();
-        let start = Instant::now();
-        let mut excluded = 0.0f64;
-        let mut measured: Vec<(u32, f64, Vec3Soa)> = Vec::with_capacity(iterations as usize);
-        self.iterate(method, iterations, 0.0, false, &mut timings, |k, x| {
-            let t = Instant::now();
-            let elapsed = (t - start).as_secs_f64() - excluded;
-            measured.push((k + 1, elapsed, x.clone()));
-            excluded += t.elapsed().as_secs_f64();
-        });
-        for (iteration, seconds, x) in measured {
-            let (dist, dmax) = distance(&x, &x_ref);
+        let measure = |this: &mut Self, iteration: u32, seconds: f64, x: &Vec3Soa| {
+            let (dist, dmax) = distance(x, &x_ref);
             let measures = ErrorMeasures {
-                objective_rel: (self.objective(&x) - e_ref) / (e0 - e_ref).max(1e-300),
-                residual_rel: self.gradient_norm(&x) / g0,
+                objective_rel: (this.objective(x) - e_ref) / (e0 - e_ref).max(1e-300),
+                residual_rel: this.gradient_norm(x) / g0,
                 distance_rel: dist / d0,
                 distance_max: dmax,
             };
-            records.push(IterationRecord { iteration, seconds, measures });
+            IterationRecord { iteration, seconds, measures }
+        };
+        let reference_records: Vec<IterationRecord> =
+            ref_iterates.iter().map(|(k, t, x)| measure(self, *k, *t, x)).collect();
+        drop(ref_iterates);
+
+        let mut out = Vec::with_capacity(methods.len());
+        for &(method, iterations) in methods {
+            self.x.copy_from(&x0);
+            let mut timings = StageTimings::default();
+            let start = Instant::now();
+            let mut excluded = 0.0f64;
+            let mut measured: Vec<(u32, f64, Vec3Soa)> = Vec::new();
+            self.iterate(method, iterations, 0.0, false, &mut timings, |k, x| {
+                let t = Instant::now();
+                if keep(k + 1) || k + 1 == iterations {
+                    let elapsed = (t - start).as_secs_f64() - excluded;
+                    measured.push((k + 1, elapsed, x.clone()));
+                }
+                excluded += t.elapsed().as_secs_f64();
+            });
+            let records = measured.iter().map(|(k, t, x)| measure(self, *k, *t, x)).collect();
+            out.push(StepMeasurement { method, reference, records });
         }
-        Ok(StepMeasurement { method, reference, records })
+        Ok(MethodsMeasurement { reference, reference_records, methods: out })
     }
+}
+
+/// Several methods measured on one frozen substep ([`Simulation::measure_methods`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MethodsMeasurement {
+    pub reference: ReferenceInfo,
+    /// The reference solver's own iterates against its solution.
+    pub reference_records: Vec<IterationRecord>,
+    pub methods: Vec<StepMeasurement>,
 }
 
 /// `‖a − b‖` over all particles and the largest per-particle distance.

@@ -131,6 +131,9 @@ pub struct Model {
     pub pinned: Vec<bool>,
     // Derived, rebuilt when `dirty`.
     pub dirty: bool,
+    /// Times the matrix, colouring and slot layout were rebuilt (they are kept while the
+    /// topology, pins and stiffness do not change).
+    pub rebuilds: u32,
     pub matrix32: SparseSym32,
     pub colouring: Colouring,
     pub slots: SlotLayout,
@@ -192,6 +195,7 @@ impl Model {
             attachments: Vec::new(),
             pinned: vec![false; n],
             dirty: true,
+            rebuilds: 0,
             matrix32: SparseSym32::default(),
             colouring: Colouring::default(),
             slots: SlotLayout::default(),
@@ -383,6 +387,7 @@ impl Model {
         self.sweep = SweepRows::new(&self.matrix32, &self.colouring, &self.slots);
         self.update_b_const();
         self.dirty = false;
+        self.rebuilds += 1;
     }
 
     fn slot_layout(&self) -> SlotLayout {

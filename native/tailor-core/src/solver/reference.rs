@@ -31,8 +31,16 @@ pub struct ReferenceInfo {
 impl Simulation {
     /// Solves the current step problem (after `predict`, contacts frozen) to convergence,
     /// starting from the current positions. Returns the solution.
-    pub(crate) fn reference_solve(&mut self, max_iterations: u32, tol_m: f64) -> Result<(Vec3Soa, ReferenceInfo)> {
+    /// `observe(k, seconds, xₖ)` is called with each accepted iterate (1-based `k`; seconds
+    /// since the start, factorisation included, the observer's own time excluded).
+    pub(crate) fn reference_solve_observed(
+        &mut self,
+        max_iterations: u32,
+        tol_m: f64,
+        observe: &mut dyn FnMut(u32, f64, &Vec3Soa),
+    ) -> Result<(Vec3Soa, ReferenceInfo)> {
         let t0 = Instant::now();
+        let mut excluded = 0.0f64;
         let n = self.num_particles();
         let m = &self.model;
         // Free particles in RCM order over the free subgraph.
@@ -179,10 +187,13 @@ impl Simulation {
             }
             prev_f = Some(f);
             prev_g = Some(g);
+            let t = Instant::now();
+            observe(it + 1, (t - t0).as_secs_f64() - excluded, &x32);
+            excluded += t.elapsed().as_secs_f64();
         }
         let x32 = to_soa(&x, &base);
         self.slots = slots;
-        info.seconds = t0.elapsed().as_secs_f64();
+        info.seconds = t0.elapsed().as_secs_f64() - excluded;
         Ok((x32, info))
     }
 }

@@ -112,7 +112,9 @@ pub struct SolverSettings {
     pub substeps: u32,
     /// Local/global iterations per substep (the maximum when `tolerance` stops early).
     pub iterations: u32,
-    /// Stop a substep's iterations when the relative residual falls under this (0 disables).
+    /// Stop a substep's iterations when the residual (the force the last sweep corrected, N)
+    /// falls under this fraction of the larger of its first value and the cloth's weight
+    /// `‖M·g‖` (0 disables).
     pub tolerance: f32,
     pub method: Method,
     /// Gravity, m/s².
@@ -144,7 +146,29 @@ impl Default for SolverSettings {
     }
 }
 
+/// Names of the quality presets, fastest first (see [`SolverSettings::preset`]).
+pub const PRESETS: [&str; 2] = ["preview", "final"];
+
 impl SolverSettings {
+    /// A quality preset: the default settings with the substeps, iterations and tolerance
+    /// chosen from the run-time-against-error benchmark (`make bench-error`, `docs/accuracy.md`).
+    ///
+    /// * `"preview"`: 4 substeps × at most 10 iterations, stopping at 1e-2: the cheapest
+    ///   setting measured that keeps the walking shirt out of the body (2 × 10 and 3 × 10 let
+    ///   particles 16 to 22 mm into it);
+    /// * `"final"`: 8 substeps × at most 20 iterations, stopping at 1e-4: the walking shirt's
+    ///   strain (0.35) and seam gap (2 mm) of 6 × 30, for fewer iterations.
+    pub fn preset(name: &str) -> Result<Self> {
+        let (substeps, iterations, tolerance) = match name {
+            "preview" => (4, 10, 1e-2),
+            "final" => (8, 20, 1e-4),
+            other => {
+                return Err(TailorError::setting("preset", other, format!("expected one of {PRESETS:?}")));
+            }
+        };
+        Ok(Self { substeps, iterations, tolerance, ..Self::default() })
+    }
+
     pub fn validate(&self) -> Result<()> {
         if self.substeps == 0 {
             return Err(TailorError::setting("substeps", self.substeps, "must be at least 1"));
@@ -208,4 +232,22 @@ pub(crate) fn positive(name: &'static str, v: f32) -> Result<()> {
         return Err(TailorError::setting(name, v, "must be positive"));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_are_valid_and_ordered_by_cost() {
+        let p: Vec<SolverSettings> = PRESETS.iter().map(|n| SolverSettings::preset(n).unwrap()).collect();
+        for s in &p {
+            s.validate().unwrap();
+            assert!(s.tolerance > 0.0, "a preset stops at its tolerance");
+        }
+        let work = |s: &SolverSettings| s.substeps * s.iterations;
+        assert!(work(&p[0]) < work(&p[1]) && p[0].tolerance > p[1].tolerance);
+        let err = SolverSettings::preset("fast").unwrap_err().to_string();
+        assert!(err.contains("preset") && err.contains("preview"), "{err}");
+    }
 }

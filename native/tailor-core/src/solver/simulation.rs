@@ -28,6 +28,7 @@ use super::global::{unpack, unpack_extrapolated, GlobalSystem, SweepNorms};
 use super::local::project_all;
 use super::model::Model;
 use super::settings::{Fabric, Method, SolverSettings};
+use super::sleep::Sleep;
 use super::soa::Vec3Soa;
 use super::stats::{StageTimings, StepStats};
 
@@ -62,6 +63,9 @@ pub struct Simulation {
     pub(crate) h_prepared: f32,
     /// Some seam pair still has a non-zero closing rest length.
     seams_closing: bool,
+    pub(crate) sleep: Sleep,
+    /// `‖M·g‖` over the free particles, N: the force scale of the early-termination test.
+    weight_norm: f64,
     pub(crate) time: f64,
 }
 
@@ -115,6 +119,8 @@ impl Simulation {
             free: Vec::new(),
             h_prepared: 0.0,
             seams_closing: false,
+            sleep: Sleep::default(),
+            weight_norm: 0.0,
             time: 0.0,
         })
     }
@@ -170,6 +176,7 @@ impl Simulation {
 
     /// Replaces the settings (validated first; nothing changes on error).
     pub fn set_settings(&mut self, settings: SolverSettings) -> Result<()> {
+        self.sleep.wake();
         settings.validate()?;
         if settings.colouring_seed != self.settings.colouring_seed {
             self.model.dirty = true;
@@ -181,6 +188,7 @@ impl Simulation {
 
     /// Sets positions (for example after the artist moved a piece); finite values only.
     pub fn set_positions(&mut self, p: &[[f32; 3]]) -> Result<()> {
+        self.sleep.wake();
         self.check_len("positions", p.len())?;
         check_finite3("positions", p)?;
         self.x = Vec3Soa::from_aos(p);
@@ -188,6 +196,7 @@ impl Simulation {
     }
 
     pub fn set_velocities(&mut self, v: &[[f32; 3]]) -> Result<()> {
+        self.sleep.wake();
         self.check_len("velocities", v.len())?;
         check_finite3("velocities", v)?;
         self.v = Vec3Soa::from_aos(v);
@@ -202,17 +211,20 @@ impl Simulation {
     }
 
     pub fn set_mass_scale(&mut self, scale: &[f32]) -> Result<()> {
+        self.sleep.wake();
         self.model.set_mass_scale(scale)?;
         self.h_prepared = 0.0;
         Ok(())
     }
 
     pub fn set_triangle_stiffness(&mut self, stretch: &[f32], shear: &[f32]) -> Result<()> {
+        self.sleep.wake();
         self.model.set_triangle_stiffness(stretch, shear)
     }
 
     /// Takes the bending rest shape from a pose (creases are kept), or flat with `None`.
     pub fn set_bending_rest_pose(&mut self, pose: Option<&[[f32; 3]]>) -> Result<()> {
+        self.sleep.wake();
         match pose {
             Some(p) => {
                 self.check_len("bending rest pose", p.len())?;
@@ -226,6 +238,7 @@ impl Simulation {
 
     /// Adds a seam; the seam-closing ramp starts again. Returns the hinges created.
     pub fn add_seam(&mut self, seam: Seam) -> Result<usize> {
+        self.sleep.wake();
         let first = self.model.seam_pairs.len();
         let hinges = self.model.add_seam(seam)?;
         if self.settings.ramp.enabled && self.settings.ramp.closing_speed > 0.0 {
@@ -243,15 +256,18 @@ impl Simulation {
     }
 
     pub fn add_attachment(&mut self, a: Attachment) -> Result<()> {
+        self.sleep.wake();
         self.model.add_attachment(a)
     }
 
     pub fn set_attachment_targets(&mut self, targets: &[[f32; 3]]) -> Result<()> {
+        self.sleep.wake();
         self.model.set_attachment_targets(targets)
     }
 
     /// Pins particles (hard): at `targets`, or where they are now.
     pub fn pin(&mut self, particles: &[u32], targets: Option<&[[f32; 3]]>) -> Result<()> {
+        self.sleep.wake();
         let n = self.num_particles();
         if let Some(t) = targets {
             if t.len() != particles.len() {
@@ -277,6 +293,7 @@ impl Simulation {
     }
 
     pub fn unpin(&mut self, particles: &[u32]) -> Result<()> {
+        self.sleep.wake();
         let n = self.num_particles();
         if let Some(&bad) = particles.iter().find(|&&p| p as usize >= n) {
             return Err(TailorError::index("unpin", bad as i64, n, "particles"));
@@ -291,6 +308,7 @@ impl Simulation {
     }
 
     pub fn add_collider(&mut self, c: ImplicitCollider) -> Result<()> {
+        self.sleep.wake();
         for (name, v) in [("static_friction", c.static_friction), ("kinetic_friction", c.kinetic_friction)] {
             super::settings::non_negative(name, v)?;
         }
@@ -300,6 +318,7 @@ impl Simulation {
 
     /// Collision thickness: particles are kept this far outside colliders, metres.
     pub fn set_thickness(&mut self, t: f32) -> Result<()> {
+        self.sleep.wake();
         super::settings::non_negative("thickness", t)?;
         self.thickness = t;
         Ok(())
@@ -322,13 +341,22 @@ impl Simulation {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(TailorError::setting("dt", dt, "the time step must be positive and finite"));
         }
-        let backup = self.save_state();
         let substeps = self.settings.substeps;
         let h = dt / substeps as f32;
         let mut stats = StepStats { substeps, ..Default::default() };
         if !std::mem::take(&mut self.collide.frame_begun) {
             self.collide.begin_frame(dt);
         }
+        if self.collide.any_collider_moving() || self.seams_closing {
+            self.sleep.wake();
+        }
+        if self.sleep.asleep {
+            self.time += dt as f64;
+            self.fill_stats(&mut stats);
+            stats.asleep = true;
+            return Ok(stats);
+        }
+        let backup = self.save_state();
         for k in 0..substeps {
             self.collide.set_substep(k, substeps);
             let (out, t) = self.substep(h);
@@ -346,6 +374,16 @@ impl Simulation {
                     .into(),
             });
         }
+        let quiet = !self.seams_closing && !self.collide.any_collider_moving();
+        if self.sleep.after_step(self.v.max_length(), quiet) {
+            self.v = Vec3Soa::zeros(self.num_particles());
+        }
+        self.fill_stats(&mut stats);
+        Ok(stats)
+    }
+
+    /// The end-of-step figures of `stats` that do not depend on the substeps.
+    fn fill_stats(&mut self, stats: &mut StepStats) {
         let (gap, frac) = self.seam_gaps();
         stats.seam_gap_max = gap;
         stats.seam_closed_fraction = frac;
@@ -354,7 +392,17 @@ impl Simulation {
         stats.ramp_phase = self.ramp.phase;
         stats.contacts = self.contacts.count();
         stats.collision = self.collide.take_stats();
-        Ok(stats)
+    }
+
+    /// Whether the cloth is asleep (at rest and not being solved; see `sleep.rs`).
+    pub fn is_asleep(&self) -> bool {
+        self.sleep.asleep
+    }
+
+    /// Allows or forbids sleeping (on by default; benchmarks and equivalence tests switch it).
+    pub fn set_sleeping(&mut self, enabled: bool) {
+        self.sleep.enabled = enabled;
+        self.sleep.wake();
     }
 
     /// Largest sewn-pair gap (m) and fraction of pairs under the ramp's gap threshold.
@@ -415,6 +463,8 @@ impl Simulation {
             self.slots = vec![Vec3A::ZERO; m.slots.total];
             self.free = m.colouring.groups.iter().flatten().copied().collect();
             self.free.sort_unstable();
+            let g2 = Vec3::from(self.settings.gravity).length_squared() as f64;
+            self.weight_norm = self.free.iter().map(|&i| (m.mass[i as usize] as f64).powi(2) * g2).sum::<f64>().sqrt();
             self.h_prepared = h;
             if self.settings.method == Method::Chebyshev && self.settings.chebyshev.rho.is_none() {
                 let m = &self.model;
@@ -553,7 +603,10 @@ impl Simulation {
             out.iterations = k + 1;
             out.residual = (norms.residual2.sqrt() / r0) as f32;
             observe(k, &self.x);
-            if tolerance > 0.0 && k > 0 && out.residual < tolerance {
+            // Relative to the larger of the first residual and the cloth's weight: a step that
+            // starts nearly solved (a cloth at rest) stops once the force left is a small
+            // fraction of its weight, instead of chasing a relative reduction of a tiny start.
+            if tolerance > 0.0 && k > 0 && norms.residual2.sqrt() < tolerance as f64 * r0.max(self.weight_norm) {
                 break;
             }
         }

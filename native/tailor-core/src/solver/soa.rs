@@ -88,6 +88,19 @@ impl Vec3Soa {
     pub fn all_finite(&self) -> bool {
         self.x.iter().chain(&self.y).chain(&self.z).all(|v| v.is_finite())
     }
+
+    /// The largest vector length (NaN if any component is NaN).
+    pub fn max_length(&self) -> f32 {
+        let mut m2 = 0.0f32;
+        for i in 0..self.len() {
+            let l2 = self.x[i] * self.x[i] + self.y[i] * self.y[i] + self.z[i] * self.z[i];
+            if l2.is_nan() {
+                return f32::NAN;
+            }
+            m2 = m2.max(l2);
+        }
+        m2.sqrt()
+    }
 }
 
 /// A raw view of a [`Vec3Soa`] that parallel kernels write through.

@@ -61,6 +61,8 @@ pub struct StepStats {
     pub contacts: usize,
     /// Mesh-collider and self-collision work (times also counted in the stages above).
     pub collision: CollisionStats,
+    /// The cloth was asleep: nothing was solved (see `sleep.rs`).
+    pub asleep: bool,
     /// The backend that ran the step.
     pub backend: ActiveBackend,
     /// Why a requested GPU backend is not in use (no adapter, unsupported feature), if so.

@@ -155,6 +155,11 @@ impl Collisions {
         std::mem::take(&mut self.stats)
     }
 
+    /// Whether some mesh collider moves during the current frame (after `begin_frame`).
+    pub fn any_collider_moving(&self) -> bool {
+        self.meshes.iter().any(|m| m.moving)
+    }
+
     pub fn invalidate_topology(&mut self) {
         self.self_state.invalidate();
     }
@@ -201,6 +206,7 @@ impl Simulation {
         triangles: &[[u32; 3]],
         options: MeshColliderOptions,
     ) -> Result<ColliderId> {
+        self.sleep.wake();
         let m = MeshCollider::new(vertices, triangles, options)?;
         self.collide.meshes.push(m);
         Ok(ColliderId(self.collide.meshes.len() as u32 - 1))
@@ -240,11 +246,13 @@ impl Simulation {
 
     /// Collision levels of a collider, per vertex or per triangle (see [`levels`]).
     pub fn set_collider_levels(&mut self, id: ColliderId, levels: &[i32]) -> Result<()> {
+        self.sleep.wake();
         self.mesh_mut(id)?.set_levels(levels)
     }
 
     /// Default friction of particles touching this collider.
     pub fn set_collider_friction(&mut self, id: ColliderId, static_friction: f32, kinetic_friction: f32) -> Result<()> {
+        self.sleep.wake();
         super::settings::non_negative("static_friction", static_friction)?;
         super::settings::non_negative("kinetic_friction", kinetic_friction)?;
         let m = self.mesh_mut(id)?;
@@ -255,6 +263,7 @@ impl Simulation {
 
     /// Collision level per cloth particle (see [`levels`]).
     pub fn set_particle_levels(&mut self, levels: &[i32]) -> Result<()> {
+        self.sleep.wake();
         if levels.len() != self.num_particles() {
             return Err(TailorError::shape(
                 "particle levels",
@@ -273,6 +282,7 @@ impl Simulation {
     /// Per-particle static and kinetic friction, used for mesh contacts and cloth-cloth pairs
     /// instead of the colliders' and self-collision defaults; `None` restores the defaults.
     pub fn set_particle_friction(&mut self, coefficients: Option<(&[f32], &[f32])>) -> Result<()> {
+        self.sleep.wake();
         let n = self.num_particles();
         self.collide.friction = match coefficients {
             Some((s, k)) => {
@@ -286,6 +296,7 @@ impl Simulation {
     }
 
     pub fn set_self_collision(&mut self, s: SelfCollisionSettings) -> Result<()> {
+        self.sleep.wake();
         s.validate()?;
         self.collide.self_settings = s;
         Ok(())
@@ -297,6 +308,7 @@ impl Simulation {
 
     /// Switches the scene's collision skips (benchmarks and equivalence tests).
     pub fn set_collision_skips(&mut self, skips: CollisionSkips) {
+        self.sleep.wake();
         self.collide.skips = skips;
     }
 

@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon addon bench setup develop clean
+.PHONY: demo test test-rust test-python test-addon addon bench setup develop clean samples-character
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -43,6 +43,12 @@ $(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
 ## Benchmarks (print figures; not part of the tests).
 bench: develop
 	cargo bench -p tailor-core --bench solver
+
+## Regenerate sample_blends/character.blend and .glb (rig, skin, walk and run) from
+## sample_blends/sources, with contact sheets in out/character and the docs' previews.
+## Needs the bpy wheel in .venv: .venv/bin/pip install "bpy==4.5.*".
+samples-character: setup
+	$(PY) sample_blends/build/character.py --render out/character --docs-img docs/img
 
 setup: $(VENV)/.tailor-setup
 

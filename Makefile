@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon addon bench setup develop clean samples-character
+.PHONY: demo test test-rust test-python test-addon addon bench setup develop clean samples-character samples
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -49,6 +49,12 @@ bench: develop
 ## Needs the bpy wheel in .venv: .venv/bin/pip install "bpy==4.5.*".
 samples-character: setup
 	$(PY) sample_blends/build/character.py --render out/character --docs-img docs/img
+
+## Regenerate the sample garments (sample_blends/{tshirt,skirt,trousers,layered}.blend and their
+## garment files) with the add-on's operators, then check that each assembles on the character.
+samples: develop
+	$(PY) sample_blends/build/garments.py
+	$(PY) sample_blends/build/check_garments.py
 
 setup: $(VENV)/.tailor-setup
 

@@ -29,7 +29,7 @@ def px(p):
     return a.reshape(h, w, 4)[:, :, :3]
 ref = px(sys.argv[1])
 out = {}
-for p in sys.argv[2:]:
+for p in sys.argv[1:]:
     a = px(p)
     red = (a[:, :, 0] > a[:, :, 1] + 0.2) & (a[:, :, 0] > a[:, :, 2] + 0.15)
     diff = np.abs(a - ref).max(axis=2) > 0.1 if a.shape == ref.shape else np.ones(a.shape[:2], bool)

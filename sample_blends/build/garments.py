@@ -13,9 +13,11 @@ and registered, as Blender does when it is enabled):
    (the trousers are the jumpsuit's four trouser panels);
 3. the pieces are turned from GarmentCode's Y-up frame into the character's Z-up frame (the same
    turn the body got: (x, y, z) -> (x, -z, y)); an outer layer is moved out from the body first;
-4. sleeves and trouser legs are bent (`tailor.bend`) around the limb between their front and back
-   panels, by the angle among BEND_ANGLES that brings their seams closest without putting a vertex
-   inside the body (measured, printed; 0 keeps GarmentCode's flat placement);
+4. each layer is lifted by the smallest of LIFTS that leaves fewest torso seams closing through
+   the body; sleeves and trouser legs are bent (`tailor.bend`) around the limb between their
+   front and back panels by the angle among BEND_ANGLES with no vertex inside the body and at
+   most MAX_BEND_STRAIN stretch, fewest seams closing through the limb, then the smallest gap
+   (measured, printed; 0 keeps GarmentCode's flat placement);
 5. collision levels are painted (`tailor.collision_level_set`): on the trousers, the left leg 3
    and the right leg 4, and on the body the arms 1 and 2 and the legs 3 and 4, from the skin
    weights; so trousers never catch on the arms and each trouser leg ignores the other leg;
@@ -59,7 +61,9 @@ from tailor_addon.core.garment import SeamData
 # GarmentCode and glTF are Y-up facing +Z; the character is Z-up facing -Y.
 Y_TO_Z = Matrix.Rotation(math.radians(90.0), 4, "X")
 Z_TO_Y = Y_TO_Z.inverted()
-BEND_ANGLES = (0.0, 30.0, 60.0, 90.0)
+BEND_ANGLES = (0.0, 15.0, 30.0, 45.0, 60.0, 90.0)
+MAX_BEND_STRAIN = 0.10  # a bend that stretches the piece more than this snaps back at the start
+LIFTS = (0.0, 0.02, 0.04, 0.06, 0.08, 0.10)  # metres a layer may be raised so its seams close outside
 LIMB_PAIRS = (("sleeve_f", "sleeve_b"), ("pant_f", "pant_b"))
 
 # Fabrics (density kg/m^2, stretch and shear N/m, bend): light knit, woven cotton, light woven
@@ -196,23 +200,102 @@ def piece_world(obj) -> np.ndarray:
     return scene_data.vertex_positions(obj)
 
 
-def seam_gap_of(objs: list) -> float:
-    """Largest distance between sewn points of the seams between pieces of `objs` (metres)."""
+def sewn_points(objs: list, both: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """The sewn points (A side, B side) of the seams between pieces of `objs` (world, metres);
+    with `both=False`, of the seams with at least one side among them."""
     from tailor_addon import scene_data
 
     g = scene_data.build_garment(bpy.context.scene)
-    names = {o.name for o in objs}
     index = {o.name: i for i, o in enumerate(scene_data.piece_objects(bpy.context.scene))}
-    wanted = {index[n] for n in names}
-    worst = 0.0
+    wanted = {index[o.name] for o in objs}
+    pas, pbs = [np.zeros((0, 3))], [np.zeros((0, 3))]
     for k, s in enumerate(g.seams):
-        if s.a.piece not in wanted or s.b.piece not in wanted:
+        inside = (s.a.piece in wanted, s.b.piece in wanted)
+        if not (all(inside) if both else any(inside)):
             continue
         av, aw, bv, bw = g.seam_pairs(k)
-        pa = g.positions[av[:, 0]] * aw[:, :1] + g.positions[av[:, 1]] * aw[:, 1:]
-        pb = g.positions[bv[:, 0]] * bw[:, :1] + g.positions[bv[:, 1]] * bw[:, 1:]
-        worst = max(worst, float(np.linalg.norm(pa - pb, axis=1).max()))
-    return worst
+        pas.append(g.positions[av[:, 0]] * aw[:, :1] + g.positions[av[:, 1]] * aw[:, 1:])
+        pbs.append(g.positions[bv[:, 0]] * bw[:, :1] + g.positions[bv[:, 1]] * bw[:, 1:])
+    return np.concatenate(pas), np.concatenate(pbs)
+
+
+def seam_gap_of(objs: list) -> float:
+    """Largest distance between sewn points of the seams between pieces of `objs` (metres)."""
+    pa, pb = sewn_points(objs)
+    return float(np.linalg.norm(pa - pb, axis=1).max()) if len(pa) else 0.0
+
+
+def seams_closing_inside(objs: list, body_v: np.ndarray, body_t: np.ndarray, both: bool = True) -> int:
+    """How many sewn pairs would close through the body: a closing seam draws its two points
+    together along the line between them, so a pair whose line passes through the body (11
+    points on it tested) is a seam cutting through it (the paper's reason for bending sleeves,
+    Sec. 4); cloth kept outside then slides round the body instead, or under a shoulder."""
+    pa, pb = sewn_points(objs, both)
+    if not len(pa):
+        return 0
+    t = np.linspace(0.0, 1.0, 11)[:, None, None]
+    line = (1.0 - t) * pa[None] + t * pb[None]  # (11, pairs, 3)
+    hit = (signed_distance(line.reshape(-1, 3), body_v, body_t) < 0.0).reshape(len(t), -1).any(axis=0)
+    return int(hit.sum())
+
+
+def signed_distance(points: np.ndarray, body_v: np.ndarray, body_t: np.ndarray) -> np.ndarray:
+    """Distance of each point from its nearest body vertex, negative behind that vertex's
+    normal (inside): a quick test for the placement search on the dense (1 cm) body mesh."""
+    v = np.asarray(body_v, np.float64)
+    t = np.asarray(body_t, np.int64)
+    fn = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])
+    n = np.zeros_like(v)
+    for k in range(3):
+        np.add.at(n, t[:, k], fn)
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+    out = np.empty(len(points))
+    for i in range(0, len(points), 256):
+        c = np.asarray(points[i:i + 256], np.float64)
+        j = ((c[:, None, :] - v[None]) ** 2).sum(-1).argmin(axis=1)
+        d = c - v[j]
+        out[i:i + 256] = np.sign((d * n[j]).sum(1)) * np.linalg.norm(d, axis=1)
+    return out
+
+
+def piece_strain(obj) -> float:
+    """Largest edge strain of a piece's placed (bent) shape against its rest shape: a bend is
+    not an isometry, and a stretched start snaps back when the simulation starts."""
+    from tailor_addon import scene_data
+
+    rest = scene_data.rest_of(obj).astype(np.float64)
+    x = piece_world(obj).astype(np.float64)
+    ev = np.empty(len(obj.data.edges) * 2, np.int32)
+    obj.data.edges.foreach_get("vertices", ev)
+    e = ev.reshape(-1, 2)
+    l0 = np.linalg.norm(rest[e[:, 0]] - rest[e[:, 1]], axis=1)
+    l1 = np.linalg.norm(x[e[:, 0]] - x[e[:, 1]], axis=1)
+    return float(np.abs(l1 / np.maximum(l0, 1e-12) - 1.0).max())
+
+
+def lift_clear_of_body(objs: list, body_v: np.ndarray, body_t: np.ndarray) -> dict:
+    """Raises a layer by the smallest of LIFTS that puts no seam's closing point inside the
+    body (the limb seams aside: bending handles those). GarmentCode places the shirt's
+    shoulder seams 3-6 cm below the mean body's shoulder line, so they close through the
+    shoulders, or, with the solver keeping cloth on the side it came from, under them, and the
+    shirt falls off. Gravity is held while seams close, then drops the garment onto the body."""
+    limb = [o for o in objs if any(k in o.tailor_piece.piece_name for pair in LIMB_PAIRS for k in pair)]
+    torso = [o for o in objs if o not in limb]
+    tried = []
+    for lift in LIFTS:
+        for o in objs:
+            o.location.z += lift - (tried[-1][0] if tried else 0.0)
+        bpy.context.view_layer.update()
+        inside = seams_closing_inside(torso, body_v, body_t, both=False) if torso else 0
+        tried.append((lift, inside))
+        if inside == 0:
+            break
+    best = min(tried, key=lambda r: (r[1], r[0]))
+    for o in objs:
+        o.location.z += best[0] - tried[-1][0]
+    bpy.context.view_layer.update()
+    log(f"  lift: {', '.join(f'{a * 100:g} cm: {c} seam points close inside' for a, c in tried)} -> {best[0] * 100:g} cm")
+    return {"lift_m": best[0], "tried": [{"lift_m": a, "inside": c} for a, c in tried]}
 
 
 def bend_limbs(objs: list, body_v: np.ndarray, body_t: np.ndarray) -> list[dict]:
@@ -235,15 +318,20 @@ def bend_limbs(objs: list, body_v: np.ndarray, body_t: np.ndarray) -> list[dict]
                 gap = seam_gap_of(pair)
                 pts = np.concatenate([piece_world(o) for o in pair])
                 pen = tailor.penetration(pts, body_v, body_t)
-                results.append((angle, gap, int(pen["count"])))
-            ok = [r for r in results if r[2] == 0] or results[:1]
-            best = min(ok, key=lambda r: r[1])
+                strain = max(piece_strain(o) for o in pair)
+                results.append((angle, gap, int(pen["count"]), seams_closing_inside(pair, body_v, body_t), strain))
+            # No vertex inside, a strain the start can take; then the fewest seam points closing
+            # inside the limb, then the smallest gap.
+            ok = [r for r in results if r[2] == 0 and r[4] <= MAX_BEND_STRAIN] or results[:1]
+            best = min(ok, key=lambda r: (r[3], r[1]))
             for o, setup in zip(pair, setups):
                 apply_bend(o, setup, best[0])
-            figures = ", ".join(f"{a:g} deg: gap {g * 100:.1f} cm, {c} inside" for a, g, c in results)
+            figures = ", ".join(f"{a:g} deg: gap {g * 100:.1f} cm, {c} inside, {m} closing inside, strain {st:.2f}"
+                                for a, g, c, m, st in results)
             log(f"  bend {obj.name}+{partner.name}: {figures} -> {best[0]:g} deg")
             out.append({"pieces": [obj.name, partner.name], "angle_deg": best[0],
-                        "tried": [{"angle_deg": a, "seam_gap_m": g, "inside": c} for a, g, c in results]})
+                        "tried": [{"angle_deg": a, "seam_gap_m": g, "inside": c, "closing_inside": m, "strain": st}
+                                  for a, g, c, m, st in results]})
     return out
 
 
@@ -483,11 +571,13 @@ def build(sample: Sample, edge: float) -> dict:
     for layer in sample.layers:
         objs = import_layer(layer, edge)
         to_character_frame(objs, layer.push_out, centre)
+        lift = lift_clear_of_body(objs, body_v, body_t)
         bends = bend_limbs(objs, body_v, body_t)
         paint_levels(objs, layer)
         paint_pins(objs, layer)
         set_fabric(objs, layer)
-        info["layers"].append({"pattern": layer.pattern, "pieces": [o.name for o in objs], "bends": bends})
+        info["layers"].append({"pattern": layer.pattern, "pieces": [o.name for o in objs], "lift": lift,
+                               "bends": bends})
     if sample.body_levels:
         info["body_levels"] = paint_body_levels(body)
         log(f"  body collision levels: {info['body_levels']} vertices")

@@ -81,7 +81,6 @@ class Dressed:
     info: dict
     body: np.ndarray | None = None  # the collider's current vertices
     pinned: np.ndarray | None = None  # particles painted with the pin map
-    gravity_on: bool = False
     attach: "BodyAttachment | None" = None
 
     def move_body(self, body: np.ndarray) -> None:
@@ -92,22 +91,15 @@ class Dressed:
             self.sim.set_attachment_targets(self.attach.targets(body))
 
     def step(self, dt: float) -> dict:
-        """One frame. Gravity is held off while the seams close (ramp phase "closing") and on
-        from then on: under gravity, a garment falls ~0.6 m while its seams close (damping 12/s,
-        ~1 s) and ends round the legs instead of the torso."""
+        """One frame. The solver holds gravity while the seams close (`ramp_closing_gravity`,
+        0 by default); once they have met, the pinned particles are attached where the
+        assembled garment put them (attached from the start, they would hold the seams open)."""
         st = self.sim.step(dt)
-        if not self.gravity_on and st["ramp_phase"] != "closing":
-            s = self.sim.settings
-            s.gravity = GRAVITY_Y
-            self.sim.settings = s
-            self.gravity_on = True
-            # Pinned particles are attached where the assembled garment put them (attached
-            # from the start, they hold the seams open).
-            if self.pinned is not None and len(self.pinned):
-                self.attach = BodyAttachment(self.pinned, self.sim.positions[self.pinned], self.body,
-                                             self.triangles_body, offset=2.0 * self.info["thickness_m"])
-                self.sim.add_attachments(self.pinned.astype(np.uint32), self.attach.targets(self.body),
-                                         ATTACH_STIFFNESS)
+        if self.attach is None and st["ramp_phase"] != "closing" and self.pinned is not None and len(self.pinned):
+            self.attach = BodyAttachment(self.pinned, self.sim.positions[self.pinned], self.body,
+                                         self.triangles_body, offset=2.0 * self.info["thickness_m"])
+            self.sim.add_attachments(self.pinned.astype(np.uint32), self.attach.targets(self.body),
+                                     ATTACH_STIFFNESS)
         return st
 
 
@@ -158,7 +150,7 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
     sample = extras.get("tailor_sample", {})
     fabrics = sample.get("fabric_per_piece") or [{}] * len(g.pieces)
     base = fabrics[0]
-    settings = tailor.Settings(substeps=substeps, iterations=iterations, gravity=(0.0, 0.0, 0.0))
+    settings = tailor.Settings(substeps=substeps, iterations=iterations, gravity=GRAVITY_Y)
     sim, offsets = g.build_simulation(tailor.Fabric(**base), settings)
     meshes = g.meshes()
     n, counts = sim.num_particles, [len(m.rest) for m in meshes]

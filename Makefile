@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon bench-error stress
+.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon bench-error stress samples
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -73,6 +73,12 @@ bench-error: setup
 ## The whole numerical stress suite (docs/stability.md); `make test` runs a quick subset.
 stress:
 	cargo run --release -p tailor-core --example stress -- --out docs/stability.md
+
+## Regenerate the sample garments (sample_blends/{tshirt,skirt,trousers,layered}.blend and their
+## garment files) with the add-on's operators, then check that each assembles on the character.
+samples: develop
+	$(PY) sample_blends/build/garments.py
+	$(PY) sample_blends/build/check_garments.py
 
 setup: $(VENV)/.tailor-setup
 

@@ -10,7 +10,7 @@ def run(*args, **kw):
 
 
 def test_demo_runs_and_reports(tmp_path):
-    r = run("demo", "--frames", "30", "--out", str(tmp_path))
+    r = run("demo", "--scene", "sleeve", "--frames", "30", "--out", str(tmp_path))
     assert r.returncode == 0, r.stderr
     assert "ns per particle-iteration" in r.stdout and "seam gap" in r.stdout
     report = json.loads((tmp_path / "report.json").read_text())

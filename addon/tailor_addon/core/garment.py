@@ -147,7 +147,7 @@ class SceneGarment:
         self,
         fabric: tailor.Fabric | None = None,
         settings: tailor.Settings | None = None,
-        seam_stiffness: float = 1000.0,
+        seam_stiffness: float = 1.0e4,
         seam_bend_stiffness: float = 1e-5,
     ) -> tailor.Simulation:
         """A `tailor.Simulation` of the pieces as they stand in the scene, every seam added

@@ -49,6 +49,7 @@ class Settings:
     ramp_closed_fraction: float
     ramp_release_time: float
     ramp_closing_speed: float
+    ramp_closing_gravity: float
     chebyshev_rho: float | None
     colouring_seed: int
     def __init__(self, **kwargs: Any) -> None: ...
@@ -305,7 +306,7 @@ class Garment:
         self,
         fabric: Fabric | None = None,
         settings: Settings | None = None,
-        seam_stiffness: float = 1000.0,
+        seam_stiffness: float = 1.0e4,
         seam_bend_stiffness: float = 1e-5,
         gap: float = 0.05,
     ) -> tuple[Simulation, list[int]]: ...

@@ -184,7 +184,7 @@ impl Garment {
     /// `(simulation, offsets)`: `offsets[i]` is the index of piece `i`'s first particle.
     /// Each seam's spring constant is `seam_stiffness` (N/m) times its own stiffness factor;
     /// pieces without a placement are laid side by side `gap` metres apart.
-    #[pyo3(signature = (fabric=None, settings=None, seam_stiffness=1000.0, seam_bend_stiffness=1e-5, gap=0.05))]
+    #[pyo3(signature = (fabric=None, settings=None, seam_stiffness=1.0e4, seam_bend_stiffness=1e-5, gap=0.05))]
     fn build_simulation<'py>(
         &mut self,
         py: Python<'py>,

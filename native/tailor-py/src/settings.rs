@@ -66,6 +66,8 @@ pub struct Settings {
     pub ramp_release_time: f32,
     /// Speed at which sewn points are drawn together, m/s (0 = at once).
     pub ramp_closing_speed: f32,
+    /// Factor on gravity while seams close (0 = the pieces stay where placed until sewn).
+    pub ramp_closing_gravity: f32,
     /// Fixed Chebyshev spectral radius; None = measured automatically.
     pub chebyshev_rho: Option<f32>,
     pub colouring_seed: u64,
@@ -126,6 +128,7 @@ impl From<&core::SolverSettings> for Settings {
             ramp_closed_fraction: s.ramp.closed_fraction,
             ramp_release_time: s.ramp.release_time,
             ramp_closing_speed: s.ramp.closing_speed,
+            ramp_closing_gravity: s.ramp.closing_gravity,
             chebyshev_rho: s.chebyshev.rho,
             colouring_seed: s.colouring_seed,
         }
@@ -149,6 +152,7 @@ impl Settings {
                 closed_fraction: self.ramp_closed_fraction,
                 release_time: self.ramp_release_time,
                 closing_speed: self.ramp_closing_speed,
+                closing_gravity: self.ramp_closing_gravity,
             },
             chebyshev: core::ChebyshevSettings { rho: self.chebyshev_rho, ..d.chebyshev },
             colouring_seed: self.colouring_seed,

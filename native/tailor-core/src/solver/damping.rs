@@ -3,7 +3,9 @@
 //! When a simulation starts, seams pull their sides together abruptly. To keep that stable the
 //! air damping is raised while seams are open; once most pairs meet (the fraction of pairs
 //! under a gap threshold reaches `closed_fraction`) it returns linearly to its base value over
-//! `release_time` and then stays there. Adding seams restarts the ramp.
+//! `release_time` and then stays there. Adding seams restarts the ramp. While seams are open,
+//! gravity is scaled by `ramp.closing_gravity` (0 by default): the pieces assemble where they
+//! were placed instead of falling off the body before they are sewn.
 
 use super::settings::SolverSettings;
 
@@ -39,6 +41,16 @@ impl Ramp {
                 high + (s.air_damping - high) * t
             }
             RampPhase::Done => s.air_damping,
+        }
+    }
+
+    /// Factor on gravity now: `ramp.closing_gravity` while seams close (only when there are
+    /// seams: a cloth without seams is never held), 1 otherwise.
+    pub fn gravity_scale(&self, s: &SolverSettings, has_seams: bool) -> f32 {
+        if s.ramp.enabled && has_seams && self.phase == RampPhase::Closing {
+            s.ramp.closing_gravity
+        } else {
+            1.0
         }
     }
 
@@ -79,5 +91,18 @@ mod tests {
         r.advance(&s, 1.0, true, h);
         assert_eq!(r.phase, RampPhase::Done);
         assert_eq!(r.damping(&s), s.air_damping);
+    }
+
+    #[test]
+    fn gravity_is_held_only_while_seams_close() {
+        let mut s = SolverSettings::default();
+        s.ramp.closing_gravity = 0.25;
+        let mut r = Ramp::default();
+        assert_eq!(r.gravity_scale(&s, true), 0.25);
+        assert_eq!(r.gravity_scale(&s, false), 1.0, "a cloth without seams falls from the start");
+        r.advance(&s, 1.0, true, 0.01);
+        assert_eq!(r.gravity_scale(&s, true), 1.0, "full gravity from the release on");
+        s.ramp.enabled = false;
+        assert_eq!(Ramp::default().gravity_scale(&s, true), 1.0);
     }
 }

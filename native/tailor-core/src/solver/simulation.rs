@@ -148,6 +148,11 @@ impl Simulation {
         self.seams_closing
     }
 
+    /// Factor on gravity in effect now (`ramp.closing_gravity` while seams close, else 1).
+    pub fn gravity_scale(&self) -> f32 {
+        self.ramp.gravity_scale(&self.settings, !self.model.seam_pairs.is_empty())
+    }
+
     pub fn time(&self) -> f64 {
         self.time
     }
@@ -499,7 +504,7 @@ impl Simulation {
         if self.seams_closing {
             self.close_seams(h);
         }
-        let g = Vec3::from(self.settings.gravity);
+        let g = Vec3::from(self.settings.gravity) * self.gravity_scale();
         let inv_h2 = 1.0 / (h * h);
         self.x_start.copy_from(&self.x);
         for i in 0..self.num_particles() {

@@ -1,0 +1,208 @@
+"""A sample garment file on the animated sample character, headless (module only, no bpy).
+
+The sample garments (sample_blends/*.json, written by sample_blends/build/garments.py) hold
+their fabric per piece, collision levels and solver choices in the garment file's extras
+(`garment_extras`); the character is `sample_blends/character.glb` read by
+`tailor.AnimatedMesh`, Y-up like the garment files. The stages of a run, in order:
+
+1. **assemble** at the rest pose (the A-pose GarmentCode places its panels for): the seams close
+   under the damping ramp and the garment settles;
+2. **blend** from the rest pose into the first frame of the action, vertex by vertex, so the
+   arms come down from the A-pose over a few frames instead of teleporting through the cloth;
+3. **animate**: the action plays (looping) at the frame rate.
+
+`Character.at(frame)` gives the body's vertices for any frame of that schedule; `dress()`
+builds the `tailor.Simulation` with the body as a mesh collider.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from tailor.commands import garment_extras
+
+GRAVITY_Y = (0.0, -9.81, 0.0)
+
+
+@dataclass
+class Schedule:
+    assemble: int  # frames at the rest pose
+    blend: int  # frames from the rest pose into the action's first frame
+    fps: float = 30.0
+
+    def phase(self, frame: int) -> str:
+        if frame < self.assemble:
+            return "assemble"
+        return "blend" if frame < self.assemble + self.blend else "animate"
+
+
+class Character:
+    """The skinned body of a glTF file: its rest pose and one action, on a `Schedule`."""
+
+    def __init__(self, path: str | Path, action: str = "walk"):
+        import tailor
+
+        self.path = str(path)
+        self.mesh = tailor.AnimatedMesh(self.path)
+        self.triangles = np.asarray(self.mesh.triangles, np.uint32)
+        names = [n for n, _ in self.mesh.animations]
+        if action not in names:
+            raise tailor.InvalidParameterError(f"{self.path}: no action '{action}' (it has {', '.join(names)})")
+        self.action = names.index(action)
+        self.duration = float(self.mesh.animations[self.action][1])
+        self.rest = self.mesh.positions_at(0.0, None)
+
+    def pose(self, t: float) -> np.ndarray:
+        """Vertices at time `t` seconds of the action (looping)."""
+        return self.mesh.positions_at(t % self.duration if self.duration > 0 else 0.0, self.action)
+
+    def at(self, frame: int, schedule: Schedule) -> np.ndarray:
+        """Vertices at simulation frame `frame` (0-based) of `schedule`."""
+        if frame < schedule.assemble:
+            return self.rest
+        k = frame - schedule.assemble
+        if k < schedule.blend:
+            w = (k + 1) / schedule.blend
+            # Smoothstep: the body starts and ends the blend at rest, no jolt for the cloth.
+            w = w * w * (3.0 - 2.0 * w)
+            return ((1.0 - w) * self.rest + w * self.pose(0.0)).astype(np.float32)
+        return self.pose((k - schedule.blend) / schedule.fps)
+
+
+@dataclass
+class Dressed:
+    sim: object  # tailor.Simulation
+    collider: int
+    offsets: list[int]
+    triangles: np.ndarray
+    info: dict
+    body: np.ndarray | None = None  # the collider's current vertices
+    pinned: np.ndarray | None = None  # particles painted with the pin map
+    attach: "BodyAttachment | None" = None
+
+    def move_body(self, body: np.ndarray) -> None:
+        """The collider (and the attachment targets riding on it) to new body vertices."""
+        self.body = body
+        self.sim.set_collider_positions(self.collider, body)
+        if self.attach is not None:
+            self.sim.set_attachment_targets(self.attach.targets(body))
+
+    def step(self, dt: float) -> dict:
+        """One frame. The solver holds gravity while the seams close (`ramp_closing_gravity`,
+        0 by default); once they have met, the pinned particles are attached where the
+        assembled garment put them (attached from the start, they would hold the seams open)."""
+        st = self.sim.step(dt)
+        if self.attach is None and st["ramp_phase"] != "closing" and self.pinned is not None and len(self.pinned):
+            self.attach = BodyAttachment(self.pinned, self.sim.positions[self.pinned], self.body,
+                                         self.triangles_body, offset=2.0 * self.info["thickness_m"])
+            self.sim.add_attachments(self.pinned.astype(np.uint32), self.attach.targets(self.body),
+                                     ATTACH_STIFFNESS)
+        return st
+
+
+ATTACH_STIFFNESS = 100.0  # N/m per pinned particle: holds a waistband against its ~1e-3 N weight
+
+
+def vertex_normals(v: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    v = np.asarray(v, np.float64)
+    t = np.asarray(tris, np.int64)
+    fn = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])
+    n = np.zeros_like(v)
+    for k in range(3):
+        np.add.at(n, t[:, k], fn)
+    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+
+
+class BodyAttachment:
+    """Pinned garment particles riding on the body: each is attached (softly) to the point
+    `offset` metres out along the normal of its nearest body vertex, wherever the body moves
+    (the painted pin map: a waistband, the top of a shoulder line)."""
+
+    def __init__(self, particles: np.ndarray, points: np.ndarray, body: np.ndarray, tris: np.ndarray, offset: float):
+        self.particles, self.tris, self.offset = particles, tris, offset
+        body = np.asarray(body, np.float64)
+        nearest = np.empty(len(points), np.int64)
+        for i in range(0, len(points), 256):
+            chunk = np.asarray(points[i:i + 256], np.float64)
+            d = ((chunk[:, None, :] - body[None, :, :]) ** 2).sum(-1)
+            nearest[i:i + 256] = d.argmin(axis=1)
+        self.vertices = nearest
+        # Only the triangles round the attached vertices matter for their normals.
+        self.local_tris = tris[np.isin(tris, nearest).any(axis=1)]
+
+    def targets(self, body: np.ndarray) -> np.ndarray:
+        n = vertex_normals(body, self.local_tris)[self.vertices]
+        return (np.asarray(body, np.float64)[self.vertices] + self.offset * n).astype(np.float32)
+
+
+def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, substeps: int = 8,
+          iterations: int = 15, thickness: float | None = None) -> Dressed:
+    """A simulation of the garment file on the body (vertices `body`, Y-up), with the garment's
+    own fabric per piece, collision levels, thickness and self-collision choice."""
+    import tailor
+
+    garment_path = str(garment_path)
+    g = tailor.Garment.load(garment_path)
+    extras, params = garment_extras.read_extras(garment_path)
+    sample = extras.get("tailor_sample", {})
+    fabrics = sample.get("fabric_per_piece") or [{}] * len(g.pieces)
+    base = fabrics[0]
+    settings = tailor.Settings(substeps=substeps, iterations=iterations, gravity=GRAVITY_Y)
+    sim, offsets = g.build_simulation(tailor.Fabric(**base), settings)
+    meshes = g.meshes()
+    n, counts = sim.num_particles, [len(m.rest) for m in meshes]
+    tri_counts = [len(m.triangles) for m in meshes]
+    if any(f != base for f in fabrics):
+        # Per-piece fabric: stiffness per triangle, density as a mass scale per particle.
+        stretch = np.repeat([f.get("stretch", base.get("stretch")) for f in fabrics], tri_counts).astype(np.float32)
+        shear = np.repeat([f.get("shear", base.get("shear")) for f in fabrics], tri_counts).astype(np.float32)
+        sim.set_triangle_stiffness(stretch, shear)
+        dens = np.repeat([f.get("density", base.get("density")) / base.get("density") for f in fabrics], counts)
+        sim.set_mass_scale(dens.astype(np.float32))
+    levels = np.zeros(n, np.int32)
+    for piece, values in params.get("collision_level", {}).items():
+        levels[offsets[piece]:offsets[piece] + len(values)] = values
+    if levels.any():
+        sim.set_particle_levels(levels)
+    thickness = float(thickness if thickness is not None else sample.get("thickness", 0.004))
+    sim.thickness = thickness  # write-only on the module's Simulation
+    sim.set_self_collision(enabled=bool(sample.get("self_collision", False)))
+    cid = sim.add_mesh_collider(np.asarray(body, np.float32), triangles, static_friction=0.6, kinetic_friction=0.4)
+    pins = np.zeros(n, np.float32)
+    for piece, values in params.get("pin", {}).items():
+        pins[offsets[piece]:offsets[piece] + len(values)] = values
+    body_levels = sample.get("collider_levels")
+    if body_levels:
+        sim.set_collider_levels(cid, garment_extras.decode_runs(body_levels["runs"], int(body_levels["vertices"])))
+    tris = np.concatenate([np.asarray(m.triangles, np.int64) + o for m, o in zip(meshes, offsets)]).astype(np.uint32)
+    info = {
+        "garment": sample.get("name", Path(garment_path).stem),
+        "pieces": len(g.pieces),
+        "seams": len(g.seams),
+        "particles": n,
+        "triangles": int(sim.num_triangles),
+        "levels": sorted(set(int(x) for x in np.unique(levels))),
+        "self_collision": bool(sample.get("self_collision", False)),
+        "thickness_m": thickness,
+        "attached": int((pins > 0).sum()),
+    }
+    d = Dressed(sim, cid, list(offsets), tris, info, body=np.asarray(body, np.float32), pinned=np.flatnonzero(pins > 0))
+    d.triangles_body = np.asarray(triangles, np.int64)
+    return d
+
+
+def quality(d: Dressed) -> dict:
+    """The quality figures of the current state (seam gap, penetration, strain), SI units."""
+    m = d.sim.metrics(d.collider)
+    return {
+        "seam_gap_m": float(m["seam_gap"]),
+        "penetration_count": int(m["penetration_count"]),
+        "penetration_max_m": float(m["penetration_max_depth"]),
+        "strain_max": float(m["strain_max"]),
+        "strain_mean": float(m["strain_mean"]),
+        "self_intersections": int(m["self_intersections"]),
+        "nan": not bool(np.isfinite(d.sim.positions).all()),
+    }

@@ -1,0 +1,72 @@
+"""`python -m tailor demo` (the README's `make demo`) with a reduced frame count: the sample
+skirt assembles on the walking character, and the rendered frames and contact sheet are images
+of the garment (not empty frames). Skips without the bpy wheel (it renders with Workbench)."""
+
+import importlib.util
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+pytestmark = pytest.mark.skipif(
+    importlib.util.find_spec("bpy") is None, reason='bpy wheel not installed: .venv/bin/pip install "bpy==4.5.*"'
+)
+
+# Reads PNGs with Blender (the bpy wheel) in a process of its own: mean RGB per image and the
+# number of pixels whose colour differs from the body-only render by more than 0.1, and the
+# number of garment-red pixels (the skirt: red well above green and blue).
+READ = r"""
+import json, sys
+import bpy, numpy as np
+def px(p):
+    img = bpy.data.images.load(p); w, h = img.size
+    a = np.empty(w * h * 4, np.float32); img.pixels.foreach_get(a)
+    return a.reshape(h, w, 4)[:, :, :3]
+ref = px(sys.argv[1])
+out = {}
+for p in sys.argv[1:]:
+    a = px(p)
+    red = (a[:, :, 0] > a[:, :, 1] + 0.2) & (a[:, :, 0] > a[:, :, 2] + 0.15)
+    diff = np.abs(a - ref).max(axis=2) > 0.1 if a.shape == ref.shape else np.ones(a.shape[:2], bool)
+    out[p] = {"shape": list(a.shape), "red": int(red.sum()), "differs": int(diff.sum()), "std": float(a.std())}
+print("RESULT" + json.dumps(out))
+"""
+
+
+def test_demo_renders_the_garment_on_the_character(tmp_path):
+    out = tmp_path / "demo"
+    r = subprocess.run(
+        [sys.executable, "-m", "tailor", "demo", "--out", str(out), "--assemble", "30", "--blend", "4",
+         "--frames", "4", "--render-every", "19", "--size", "240x180"],
+        capture_output=True, text=True, timeout=900, cwd=ROOT,
+    )
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    for line in ("timing:", "assembly:", "walk:", "render:", "particles"):
+        assert line in r.stdout, r.stdout
+    report = json.loads((out / "report.json").read_text())
+    s = report["summary"]
+    assert s["frames"] == 38 and len(report["frames"]) == 38
+    walk = s["phases"]["animate"]
+    assert not walk["nan"] and walk["penetration_max_m"] <= s["thickness_m"], walk
+    assert walk["seam_gap_max_m"] < 0.03, walk  # assembled: the 28 cm gaps of the flat panels closed
+    frames = sorted((out / "frames").glob("frame_*.png"))
+    assert [f.name for f in frames] == s["render"]["frames"] and len(frames) >= 2
+    sheet, body = out / "contact_sheet.png", out / "body_only.png"
+    assert sheet.is_file() and body.is_file()
+    read = subprocess.run([sys.executable, "-c", READ, str(body), *map(str, frames), str(sheet)],
+                          capture_output=True, text=True, timeout=300)
+    assert read.returncode == 0, read.stderr[-2000:]
+    stats = json.loads(read.stdout.split("RESULT", 1)[1])
+    assert stats[str(body)]["red"] < 20  # the body alone has no garment colour
+    for f in frames:
+        st = stats[str(f)]
+        assert st["shape"] == [180, 240, 3]
+        assert st["red"] > 400, (f.name, st)  # the skirt covers a good part of the frame
+    # The last frame shows the same body as body_only.png plus the skirt: they differ where it is.
+    assert stats[str(frames[-1])]["differs"] > 400
+    assert stats[str(sheet)]["red"] > 400 * len(s["render"]["contact_sheet"])

@@ -8,6 +8,7 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+DEFAULT_SEAM_STIFFNESS: float
 
 ArrayLike = npt.ArrayLike
 F32 = npt.NDArray[np.float32]
@@ -88,7 +89,7 @@ class Simulation:
     def set_triangle_stiffness(self, stretch: ArrayLike, shear: ArrayLike) -> None: ...
     def set_bending_rest_pose(self, pose: ArrayLike | None = None) -> None: ...
     def add_seam(
-        self, a: ArrayLike, b: ArrayLike, stiffness: float = 1000.0, bend_stiffness: float = 1e-5, name: str = "seam"
+        self, a: ArrayLike, b: ArrayLike, stiffness: float = 10000.0, bend_stiffness: float = 1e-5, name: str = "seam"
     ) -> int: ...
     def add_weighted_seam(
         self,
@@ -96,7 +97,7 @@ class Simulation:
         a_weights: ArrayLike,
         b_vertices: ArrayLike,
         b_weights: ArrayLike,
-        stiffness: float = 1000.0,
+        stiffness: float = 10000.0,
         bend_stiffness: float = 1e-5,
         name: str = "seam",
     ) -> int: ...

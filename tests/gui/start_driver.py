@@ -183,7 +183,7 @@ def legacy_zip() -> Path:
 
 def scenario():
     import numpy as np
-    from mathutils import Euler, Matrix, Vector
+    from mathutils import Euler, Vector
 
     RESULT["blender"] = bpy.app.version_string
     prefs = bpy.context.preferences

@@ -46,6 +46,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import sys
 import tempfile
 import time
@@ -365,6 +366,7 @@ def scenario():
 
 def finish(code: int) -> None:
     (OUT / "start_result.json").write_text(json.dumps(RESULT, indent=2))
+    shutil.rmtree(WORK, ignore_errors=True)  # the zip, the saved .blend and its caches
     print(f"GUI START RESULT {'OK' if code == 0 else 'FAILED'} ({len(RESULT['checks'])} checks) -> {OUT}", flush=True)
     sys.stdout.flush()
     sys.stderr.flush()

@@ -311,6 +311,7 @@ class Garment:
         seam_bend_stiffness: float = 1e-5,
         gap: float = 0.05,
     ) -> tuple[Simulation, list[int]]: ...
+    def welded(self, positions: ArrayLike | None = None, gap: float = 0.05) -> WeldedMesh: ...
 
 def read_pattern(
     path: str, size: str | None = None, units: str | None = None, tolerance: float = 0.0005
@@ -332,3 +333,18 @@ def bend(
     symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
     threshold: float = 0.0,
 ) -> F32: ...
+
+class WeldedMesh:
+    """Sewn pieces merged into one mesh (`weld`, `Garment.welded`)."""
+
+    positions: F32
+    triangles: npt.NDArray[np.uint32]
+    vertex_map: npt.NDArray[np.uint32]
+    triangle_source: npt.NDArray[np.uint32]
+    corner_weights: F32
+    num_vertices: int
+    stats: dict[str, int]
+    def apply(self, frame: ArrayLike) -> F32: ...
+    def apply_corners(self, values: ArrayLike) -> F32: ...
+
+def weld(positions: ArrayLike, triangles_: ArrayLike, seams: Sequence[dict[str, Any]]) -> WeldedMesh: ...

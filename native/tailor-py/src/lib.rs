@@ -15,6 +15,7 @@ mod scenes;
 mod seams;
 mod settings;
 mod simulation;
+mod weld;
 
 use pyo3::prelude::*;
 
@@ -41,5 +42,6 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     contour::register(m)?;
     m.add_class::<seams::Seam>()?;
     garment::register(m)?;
+    weld::register(m)?;
     Ok(())
 }

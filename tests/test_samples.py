@@ -2,8 +2,10 @@
 files): every .blend opens with the bpy wheel, its garment read with the add-on's own reader
 (sample_blends/build/read_sample.py, in a process of its own) matches the garment file beside it,
 and a few frames baked through the module on those arrays, with the body as mesh collider, keep
-the quality metrics: no NaN, no particle deeper in the body than the thickness, seams closing.
-Skips without the bpy wheel."""
+the quality metrics: no NaN, no particle deeper in the body than the thickness, seams closing;
+and each garment file, dressed on the character at rest as check_garments.py does, has its
+seams met within 40 frames and its widest seam gap within a bound 5 frames later (35-47 s
+for the four on the shared 2-core sandbox, under load). Skips without the bpy wheel."""
 
 import importlib.util
 import json
@@ -85,3 +87,38 @@ def test_a_few_frames_bake_with_the_metrics_holding(sample):
         assert m["penetration_max_depth"] <= thickness, m
     # Seams close at the ramp's set speed (0.5 m/s): the widest gap shrinks by most of 6 frames' worth.
     assert m["seam_gap"] < gap0 - 0.8 * settings.ramp_closing_speed * 6 / 30.0, (gap0, m)
+
+
+# Seam gap (m) each garment file settles within once its seams have met at rest, and whether its
+# penetration must stay within the thickness. Measured (sample_blends/README.md, frame 60):
+# tshirt 0.44 mm, skirt 0.38 mm, trousers 1.28 mm (one inseam pair flickering 0.85-1.72 mm),
+# layered 3.3 mm with 13 particles up to 37 mm inside at the armpits: those two are regression
+# bounds on known shortfalls, not the issue's targets (1 mm, no penetration).
+SETTLED = {"tshirt": (1e-3, True), "skirt": (1e-3, True), "trousers": (2.5e-3, True), "layered": (6e-3, False)}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_garment_file_assembles_on_the_character_at_rest(name):
+    """The garment file as `check_garments.py` runs it (its own fabric, levels, pins and
+    self-collision, the body of character.glb at rest): the seams meet (the ramp releases)
+    within 40 frames, and 5 frames later the widest seam gap is within its bound."""
+    from tailor.commands import on_character
+
+    character = on_character.Character(SAMPLES / "character.glb")
+    d = on_character.dress(SAMPLES / f"{name}.json", character.rest, character.triangles)
+    released = None
+    for f in range(40):
+        if d.step(1.0 / 30.0)["ramp_phase"] != "closing":
+            released = f + 1
+            break
+    assert released is not None, f"{name}: the seams have not met after 40 frames"
+    for _ in range(5):
+        d.step(1.0 / 30.0)
+    q = on_character.quality(d)
+    gap, no_penetration = SETTLED[name]
+    print(f"{name}: seams met at frame {released}; 5 frames later seam gap {q['seam_gap_m'] * 1e3:.2f} mm, "
+          f"{q['penetration_count']} penetrations ({q['penetration_max_m'] * 1e3:.1f} mm), strain {q['strain_max']:.2f}")
+    assert not q["nan"]
+    assert q["seam_gap_m"] < gap, (name, released, q)
+    if no_penetration:
+        assert q["penetration_max_m"] <= d.info["thickness_m"], (name, q)

@@ -6,7 +6,10 @@ mod collision_common;
 use collision_common::*;
 use glam::Vec3;
 use tailor_core::collision::metrics::count_self_intersections;
-use tailor_core::solver::{CollisionSkips, MeshColliderOptions, SelfCollisionSettings, Simulation, SolverSettings};
+use tailor_core::scenes::grid_column;
+use tailor_core::solver::{
+    CollisionSkips, MeshColliderOptions, Seam, SelfCollisionSettings, Simulation, SolverSettings,
+};
 
 /// Two 0.4 m layers of 16 × 16 cells, 4 cm apart (the upper one shifted by a third of a cell,
 /// so its particles are not above the lower ones'), in one cloth, falling on a floor mesh.
@@ -93,4 +96,80 @@ fn reusing_self_collision_candidates_does_not_change_results() {
     println!("self-collision searches in one frame: reused {} / every pass {}", searches[0], searches[1]);
     assert_eq!(hashes[0], hashes[1], "reusing candidates changed the result");
     assert!(searches[0] * 4 < searches[1], "{searches:?}");
+}
+
+/// Four 0.1 m panels (5 × 5 cells) laid out as the quadrants of a square, 2 cm apart, sewn
+/// along the four half-lines between them (lower left to lower right, lower right to upper
+/// right, upper right to upper left, upper left to lower left), 6 cm above a single 0.3 m
+/// sheet lying on a floor. Returns the simulation and the index of the first sewn particle.
+fn four_panels_over_a_sheet(self_on: bool) -> (Simulation, usize) {
+    let (n, side, gap) = (5usize, 0.1f32, 0.02f32);
+    let (sp, sr, st) = cloth_grid(0.3, 15, 0.0, 0.0, 0.01);
+    let (rest, tris) = tailor_core::scenes::rectangle(side, side, n, n);
+    let mut pos = sp.clone();
+    let mut all_rest = sr.clone();
+    let mut all_tris = st.clone();
+    let mut first = Vec::new();
+    // Quadrant offsets: lower left, lower right, upper right, upper left.
+    let half = 0.5 * gap + side;
+    for (k, (ox, oy)) in
+        [(-half, -half), (0.5 * gap, -half), (0.5 * gap, 0.5 * gap), (-half, 0.5 * gap)].into_iter().enumerate()
+    {
+        let base = pos.len() as u32;
+        first.push(base);
+        pos.extend(rest.iter().map(|r| [ox + r[0], oy + r[1], 0.07]));
+        all_rest.extend(rest.iter().map(|r| [r[0] + 0.4 * (k + 1) as f32, r[1] + 1.0]));
+        all_tris.extend(tris.iter().map(|t| t.map(|v| v + base)));
+    }
+    let n0 = first[0] as usize;
+    let mut settings = SolverSettings::default();
+    settings.ramp.closing_speed = 0.5;
+    let mut sim = sim_of(pos, all_rest, all_tris, settings);
+    let col = |p: usize, i: usize| -> Vec<u32> { grid_column(n, n, i).into_iter().map(|v| v + first[p]).collect() };
+    let row = |p: usize, j: usize| -> Vec<u32> { (0..=n).map(|i| (j * (n + 1) + i) as u32 + first[p]).collect() };
+    for (name, a, b) in [
+        ("lower", col(0, n), col(1, 0)),
+        ("right", row(1, n), row(2, 0)),
+        ("upper", col(3, n), col(2, 0)),
+        ("left", row(0, n), row(3, 0)),
+    ] {
+        sim.add_seam(Seam::one_to_one(name, &a, &b, 1e4, 1e-5).unwrap()).unwrap();
+    }
+    let (fv, ft) = plane_mesh(2.0, 10, Vec3::ZERO, Vec3::X, Vec3::Y);
+    sim.add_mesh_collider(&fv, &ft, MeshColliderOptions::default()).unwrap();
+    sim.set_self_collision(SelfCollisionSettings { enabled: self_on, ..Default::default() }).unwrap();
+    for _ in 0..20 {
+        sim.step(1.0 / 30.0).unwrap();
+    }
+    (sim, n0)
+}
+
+/// Where four pieces meet, the corner of each is sewn to its two neighbours' corners only, yet
+/// all four close onto one point: the corners two seams apart (and their neighbours) must not
+/// repel either, or they hold the junction open by about a sphere diameter. The sewn panels
+/// still do not pass through the separate sheet they fall on.
+#[test]
+fn a_four_piece_junction_closes_with_self_collision_on_and_stays_off_the_sheet_below() {
+    for self_on in [false, true] {
+        let (sim, n0) = four_panels_over_a_sheet(self_on);
+        let (gap, _) = sim.seam_gaps();
+        let x = sim.positions().to_aos();
+        // Sheet against panels: all intersecting pairs less the panels' own (the sheet is flat);
+        // the closed seams' triangles touch, and count among the panels' own.
+        let tris = sim.model().mesh.triangles();
+        let panels: Vec<[u32; 3]> = tris.iter().copied().filter(|t| t[0] as usize >= n0).collect();
+        let crossings = count_self_intersections(&x, tris).unwrap() - count_self_intersections(&x, &panels).unwrap();
+        let (lo, hi) = layer_heights(&sim, n0);
+        let r = sim.self_collision_radius();
+        println!(
+            "self-collision {self_on}: seam gap {:.3} mm, sheet / panels at {lo:.4} / {hi:.4} m (radius {r:.4}), \
+             {crossings} sheet-panel intersecting pairs",
+            gap * 1e3
+        );
+        assert!(gap < 1e-3, "self-collision {self_on}: the junction stays {:.2} mm open", gap * 1e3);
+        if self_on {
+            assert_eq!(crossings, 0, "the sewn panels cross the sheet");
+            assert!(hi - lo > 1.5 * r, "panels not on the sheet: {lo} / {hi}");
+        }
+    }
 }

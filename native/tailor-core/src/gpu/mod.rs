@@ -617,7 +617,7 @@ impl GpuSolver {
         p.pinned = base(&mut idx, &pinned);
         // Self-collision: the CPU's exclusion set (it skips the pass when that cannot be built).
         let excl = if col.self_settings.enabled {
-            crate::solver::collide::self_collide::build_exclusions(m).ok()
+            crate::solver::collide::self_collide::build_exclusions(m, view.self_radius).ok()
         } else {
             None
         };

@@ -92,9 +92,12 @@ def test_a_few_frames_bake_with_the_metrics_holding(sample):
 # Seam gap (m) each garment file settles within once its seams have met at rest, and whether its
 # penetration must stay within the thickness. Measured (sample_blends/README.md, frame 60):
 # tshirt 0.44 mm, skirt 0.38 mm, trousers 1.28 mm (one inseam pair flickering 0.85-1.72 mm),
-# layered 3.3 mm with 13 particles up to 37 mm inside at the armpits: those two are regression
-# bounds on known shortfalls, not the targets (1 mm, no penetration).
-SETTLED = {"tshirt": (1e-3, True), "skirt": (1e-3, True), "trousers": (2.5e-3, True), "layered": (6e-3, False)}
+# layered 5.5 mm and nothing inside (6.3 mm 5 frames after the seams meet; the hoody's underarm
+# corners, whose side seams close through the arms, are caught on the arms and stretched, and
+# the gap flickers up to 9.8 mm over frames 45-60): those two are regression bounds on known
+# shortfalls, not the targets (1 mm). Before the solver kept corrections in front of
+# the body, the layered gap was 3.3 mm with 13 particles up to 37 mm inside at the armpits.
+SETTLED = {"tshirt": (1e-3, True), "skirt": (1e-3, True), "trousers": (2.5e-3, True), "layered": (10e-3, True)}
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -113,6 +113,101 @@ fn cloth_stays_outside_a_fast_spinning_sphere_at_every_substep() {
     assert!(worst <= 1e-3, "a particle went {worst} m inside the spinning sphere");
 }
 
+/// A small patch thrown at a sphere of 1 cm triangles (1 cm hash cells) so fast that one
+/// substep takes it from 8 mm outside to far inside, along an axis and along the diagonal: it
+/// ends every substep outside, on the side it came from. The particle-vs-cell test sees
+/// nothing there (the cells deep inside hold no triangle), so only the crossing test of the
+/// substep's motion can put it back; a 7 cm diagonal move spans 5 × 5 × 5 cells of the
+/// segment's box, and the crossing test once gave up on boxes over 27 cells (the layered
+/// sample's hoody went 36 mm into the arm in one such substep while its side seam closed).
+#[test]
+fn a_fast_particle_goes_back_out_on_its_side_however_far_it_moved() {
+    let r = 0.15;
+    let (sv, st) = icosphere(4, r, Vec3::ZERO);
+    for dir in [Vec3::X, Vec3::ONE.normalize(), Vec3::new(-1.0, 0.5, -0.8).normalize()] {
+        for travel in [0.03f32, 0.07, 0.12] {
+            let (p0, rest, tris) = cloth_grid(0.004, 1, 0.0, 0.0, 0.0);
+            let start = dir * (r + 0.008);
+            let pos: Vec<[f32; 3]> = p0.iter().map(|p| (Vec3::from(*p) + start).into()).collect();
+            let settings = SolverSettings { substeps: 1, gravity: [0.0; 3], ..Default::default() };
+            let mut sim = sim_of(pos, rest, tris, settings);
+            let id = sim.add_mesh_collider(&sv, &st, MeshColliderOptions::default()).unwrap();
+            let h = 1.0 / 240.0;
+            let v: [f32; 3] = (-dir * (travel / h)).into();
+            sim.set_velocities(&vec![v; sim.num_particles()]).unwrap();
+            sim.step(h).unwrap();
+            let depth = max_depth(&sim, &sv, &st);
+            let x = sim.positions();
+            let side = (0..x.len()).map(|i| x.get(i).dot(dir)).fold(f32::INFINITY, f32::min);
+            let m = sim.metrics(Some(id)).unwrap();
+            println!(
+                "dir {dir:.2} travel {:.0} mm: deepest {:.2} mm, nearest approach along dir {:.1} mm from the centre",
+                travel * 1e3,
+                depth * 1e3,
+                side * 1e3
+            );
+            assert!(depth <= 1e-3, "thrown {travel} m along {dir}: a particle ended {depth} m inside");
+            assert!(side > 0.9 * r, "thrown {travel} m along {dir}: pushed out on the far side ({side} m)");
+            assert_eq!(m.penetration_count, 0);
+        }
+    }
+}
+
+/// A 20 cm block with a narrow V groove cut into its top (2 cm wide, 10 cm deep, apex on the
+/// y axis at z = 0): two faces meeting at an acute crease, as an arm's underside meets the
+/// chest at the armpit. Outward triangles, closed.
+fn grooved_block() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    // The profile in (x, z), counter-clockwise, extruded along y over ±10 cm.
+    let profile = [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [0.01, 0.1], [0.0, 0.0], [-0.01, 0.1], [-0.1, 0.1]];
+    let h = 0.1f32;
+    let n = profile.len() as u32;
+    let mut v: Vec<[f32; 3]> = profile.iter().map(|p| [p[0], -h, p[1]]).collect();
+    v.extend(profile.iter().map(|p| [p[0], h, p[1]]));
+    let mut t = Vec::new();
+    for k in 0..n {
+        let (p0, q0, p1, q1) = (k, (k + 1) % n, k + n, (k + 1) % n + n);
+        t.push([p0, q1, q0]);
+        t.push([p0, p1, q1]);
+    }
+    // Caps: the groove splits the profile into a bottom triangle and the two sides.
+    for [a, b, c] in [[0, 1, 4], [1, 2, 3], [1, 3, 4], [0, 4, 5], [0, 5, 6]] {
+        t.push([a, b, c]);
+        t.push([a + n, c + n, b + n]);
+    }
+    (v, t)
+}
+
+/// A patch driven down a narrow groove and into one of its faces, below the crease's apex:
+/// the crossing resolve pushes it back along that face's normal, keeping its motion along the
+/// face, which lands it behind the other face (inside the block, 9 mm from the surface). A
+/// correction must not leave a particle behind a surface its path from the substep's start
+/// crossed, so there it stays where the substep began, in the groove. (The particle-vs-cell
+/// test does not see it: it is in front of the other face's triangles in its cell.) The
+/// layered sample's hoody went 37 mm into the chest this way at the armpit.
+#[test]
+fn a_push_out_of_one_face_of_a_crease_does_not_land_behind_the_other() {
+    let (bv, bt) = grooved_block();
+    let closed = tailor_core::collision::ClosedMesh::new(&bv, &bt).unwrap();
+    let inside = closed.penetration(&[[0.0, 0.0, -0.05], [0.0, 0.0, 0.05], [0.05, 0.0, 0.05]]);
+    assert_eq!(inside.count, 2, "the block is not closed and outward");
+    let (p0, rest, tris) = cloth_grid(0.001, 1, 0.0, 0.0, 0.05);
+    let settings = SolverSettings { substeps: 1, gravity: [0.0; 3], ..Default::default() };
+    let mut sim = sim_of(p0.clone(), rest, tris, settings);
+    sim.set_thickness(0.002).unwrap();
+    let opts = MeshColliderOptions { cell_size: Some(0.01), ..Default::default() };
+    sim.add_mesh_collider(&bv, &bt, opts).unwrap();
+    // From 5 cm up the groove's middle to 6 mm right of and 1 cm below the apex, in one
+    // substep: through the right face, ending in front of the left face's plane.
+    let h = 1.0 / 240.0;
+    let v = [0.006 / h, 0.0, -0.06 / h];
+    sim.set_velocities(&vec![v; sim.num_particles()]).unwrap();
+    sim.step(h).unwrap();
+    let depth = max_depth(&sim, &bv, &bt);
+    let x = sim.positions();
+    println!("groove: deepest {:.2} mm, particle 0 at {:?}", depth * 1e3, x.get(0));
+    assert!(depth <= 1e-4, "a particle ended {depth} m inside the block");
+}
+
 /// Distance a small cloth slides in 1 s down a 20° incline mesh (tan 20° = 0.364).
 fn slide(mu_s: f32, mu_k: f32, per_particle: bool) -> f32 {
     let angle = 20f32.to_radians();

@@ -20,7 +20,7 @@ use glam::Vec3;
 use super::levels::{levels_collide, triangle_levels_from_vertices};
 use crate::collision::collider_hash::{keeps_cell, InsertionRule};
 use crate::collision::geometry::{closest_point_on_triangle, triangle_normal, Contact};
-use crate::collision::hash::{cell_of, Cell, SpatialHash};
+use crate::collision::hash::{cell_of, segment_cells, Cell, SpatialHash};
 use crate::error::{Result, TailorError};
 use crate::mesh::check_finite3;
 
@@ -56,9 +56,11 @@ impl Default for MeshColliderOptions {
 /// size far too small for the collider and is refused rather than looped over.
 const MAX_AABB_CELLS: u64 = 1 << 20;
 
-/// At most this many cells searched for a particle's crossing in one substep (a 2×2×2 block
-/// and then some: a particle moves much less than a cell per substep).
-const MAX_CROSSING_CELLS: u64 = 27;
+/// At most this many cells walked along a particle's motion for its crossing in one substep:
+/// a particle usually moves less than a cell per substep (1 or 2 cells), but a closing seam
+/// can snap a corner several centimetres (the layered sample: 41 mm, 4 cells along each axis);
+/// the bound only refuses a jump across the whole collider (10 m of 1 cm cells).
+const MAX_CROSSING_CELLS: usize = 1024;
 
 #[derive(Debug)]
 pub(crate) struct MeshCollider {
@@ -381,51 +383,47 @@ impl MeshCollider {
     /// than a cell: a limb's interior cells hold no triangles, and past the middle of a limb
     /// the nearest surface is the far one). The contact's target is `to` moved back along that
     /// triangle's normal to `thickness` in front of its plane (the tangential motion is kept).
-    /// `None` when the segment crosses no triangle front to back, or spans more than
-    /// `MAX_CROSSING_CELLS` cells (a jump that long is left to the particle-vs-cell test).
+    /// `None` when the segment crosses no triangle front to back, or passes through more than
+    /// `MAX_CROSSING_CELLS` cells without crossing one (a jump that long is left to the
+    /// particle-vs-cell test).
     pub fn crossing(&self, from: Vec3, to: Vec3, level: i32, thickness: f32) -> Option<Contact> {
         if self.kept.is_empty() {
             return None;
         }
         let l = self.cell;
-        let (clo, chi) = (cell_of(from.min(to).into(), l), cell_of(from.max(to).into(), l));
-        let span = (0..3).map(|k| (chi[k] - clo[k] + 1) as u64).product::<u64>();
-        if span > MAX_CROSSING_CELLS {
-            return None;
-        }
         let d = to - from;
         let mut best: Option<(f32, Contact)> = None;
-        for z in clo[2]..=chi[2] {
-            for y in clo[1]..=chi[1] {
-                for x in clo[0]..=chi[0] {
-                    for k in self.hash.query_cell([x, y, z]) {
-                        let t = self.kept[k as usize];
-                        let n = self.normals[k as usize];
-                        if n == Vec3::ZERO || !levels_collide(level, self.tri_level[t as usize]) {
-                            continue;
-                        }
-                        let [a, b, c] = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
-                        let (side_from, side_to) = ((from - a).dot(n), (to - a).dot(n));
-                        if !(side_from >= 0.0 && side_to < 0.0) {
-                            continue;
-                        }
-                        let s = side_from / (side_from - side_to);
-                        if best.as_ref().is_some_and(|(bs, _)| s >= *bs) {
-                            continue;
-                        }
-                        let q = from + d * s;
-                        let (closest, bary) = closest_point_on_triangle(q, a, b, c);
-                        // The crossing point lies on the triangle (to rounding), not only on its plane.
-                        if closest.distance_squared(q) > (1e-4 * l) * (1e-4 * l) {
-                            continue;
-                        }
-                        let depth = thickness - side_to;
-                        best =
-                            Some((s, Contact { triangle: t, closest, bary, normal: n, target: to + n * depth, depth }));
-                    }
+        // A triangle crossed at q is filed in q's cell (its AABB holds q and its plane passes
+        // through the cell; padded by `PAD`, so rounding at a cell face loses nothing): the
+        // cells the segment passes through hold every candidate, however long the motion.
+        segment_cells(from.into(), to.into(), l, MAX_CROSSING_CELLS, |cell| {
+            for k in self.hash.query_cell(cell) {
+                let t = self.kept[k as usize];
+                let n = self.normals[k as usize];
+                if n == Vec3::ZERO || !levels_collide(level, self.tri_level[t as usize]) {
+                    continue;
                 }
+                let [a, b, c] = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
+                let (side_from, side_to) = ((from - a).dot(n), (to - a).dot(n));
+                if !(side_from >= 0.0 && side_to < 0.0) {
+                    continue;
+                }
+                let s = side_from / (side_from - side_to);
+                if best.as_ref().is_some_and(|(bs, _)| s >= *bs) {
+                    continue;
+                }
+                let q = from + d * s;
+                let (closest, bary) = closest_point_on_triangle(q, a, b, c);
+                // The crossing point lies on the triangle (to rounding), not only on its plane.
+                if closest.distance_squared(q) > (1e-4 * l) * (1e-4 * l) {
+                    continue;
+                }
+                let depth = thickness - side_to;
+                best = Some((s, Contact { triangle: t, closest, bary, normal: n, target: to + n * depth, depth }));
             }
-        }
+        });
+        // A jump longer than the walk's bound is searched in its first cells only; past them
+        // it is left to the particle-vs-cell test.
         best.map(|(_, c)| c)
     }
 

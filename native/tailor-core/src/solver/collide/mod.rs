@@ -510,12 +510,14 @@ impl Simulation {
             }
         }
         let mut contacts = 0;
+        let mut corrected = Vec::new();
         for i in 0..self.x.len() {
             let c = self.contacts.collider[i];
             if c == u32::MAX || c & MESH_CONTACT == 0 {
                 continue;
             }
             contacts += 1;
+            corrected.push(i as u32);
             let m = &self.collide.meshes[(c & !MESH_CONTACT) as usize];
             let n = self.contacts.normal.get(i);
             let x = self.x.get(i);
@@ -534,7 +536,33 @@ impl Simulation {
                 self.x.set(i, x - rel_t * (mu_k * d / lt).min(1.0));
             }
         }
+        self.keep_corrections_in_front(&corrected);
         self.collide.stats.mesh_contacts = contacts;
         self.collide.stats.resolve_seconds += t0.elapsed().as_secs_f64();
+    }
+
+    /// A correction must not leave a particle behind a surface that its path from the
+    /// substep's start crosses. The push out of a triangle goes along that triangle's normal,
+    /// keeping the motion along it, and friction moves the particle in that triangle's plane;
+    /// in a crease (the armpit, where the arm's underside faces the chest) either can land it
+    /// behind the other side, where nothing sees it: the particle-vs-cell test finds it in
+    /// front of that side's triangles in its cell, and the next substep starts inside.
+    /// Such a particle stays where the substep began (its path from there crossed nothing
+    /// when the substep began; the cloth's constraints move it on in the next one).
+    fn keep_corrections_in_front(&mut self, corrected: &[u32]) {
+        let (x0, meshes, levels, th) = (&self.x_start, &self.collide.meshes, &self.collide.levels, self.thickness);
+        let x = &self.x;
+        let back: Vec<u32> = corrected
+            .par_iter()
+            .with_min_len(256)
+            .copied()
+            .filter(|&i| {
+                let (from, to) = (x0.get(i as usize), x.get(i as usize));
+                meshes.iter().any(|m| m.crossing(from, to, levels[i as usize], th).is_some())
+            })
+            .collect();
+        for i in back {
+            self.x.set(i as usize, self.x_start.get(i as usize));
+        }
     }
 }

@@ -11,8 +11,9 @@ and registered, as Blender does when it is enabled):
 2. each GarmentCode pattern of the garment is imported (`tailor.import_pattern`: pieces,
    placements, stitches as seams); pieces the garment does not use are deleted with their seams
    (the trousers are the jumpsuit's four trouser panels);
-3. the pieces are turned from GarmentCode's Y-up frame into the character's Z-up frame (the same
-   turn the body got: (x, y, z) -> (x, -z, y)); an outer layer is moved out from the body first;
+3. the importer turns the pieces from GarmentCode's Y-up frame into the character's Z-up frame
+   (its "Y Up" option: the turn the body got, (x, y, z) -> (x, -z, y)); an outer layer is moved
+   out from the body first;
 4. each layer is lifted by the smallest of LIFTS that leaves fewest torso seams closing through
    the body; sleeves and trouser legs are bent (`tailor.bend`) around the limb between their
    front and back panels by the angle among BEND_ANGLES with no vertex inside the body and at
@@ -157,7 +158,7 @@ def body_rest(body) -> tuple[np.ndarray, np.ndarray]:
 def import_layer(layer: Layer, edge: float) -> list:
     path = PATTERNS / f"{layer.pattern}_specification.json"
     before = set(bpy.data.objects)
-    assert bpy.ops.tailor.import_pattern(filepath=str(path), edge_length=edge) == {"FINISHED"}
+    assert bpy.ops.tailor.import_pattern(filepath=str(path), edge_length=edge, up_axis="Y") == {"FINISHED"}
     objs = sorted((o for o in bpy.data.objects if o not in before), key=lambda o: o.name)
     if layer.keep is not None:
         drop = [o for o in objs if o.tailor_piece.piece_name not in layer.keep]
@@ -179,10 +180,10 @@ def source_of(obj) -> str:
 
 
 def to_character_frame(objs: list, push_out: float, centre: np.ndarray) -> None:
-    """Y-up placement -> Z-up; `push_out` metres away from the body's vertical axis along the
-    piece's normal (an outer layer starts outside the inner one)."""
+    """`push_out` metres away from the body's vertical axis along the piece's normal (an outer
+    layer starts outside the inner one). The importer already turned GarmentCode's Y-up
+    placements to the character's Z-up frame (its default "Y Up")."""
     for o in objs:
-        o.matrix_world = Y_TO_Z @ o.matrix_world
         if push_out:
             normal = o.matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0))
             away = Vector((o.matrix_world.translation.x - centre[0], o.matrix_world.translation.y - centre[1], 0.0))

@@ -97,10 +97,13 @@ def test_bake_walks_plays_back_and_keeps_quality(addon, tmp_path):
     all_frames = np.concatenate(list(caches.values()), axis=1)
     assert np.isfinite(all_frames).all()
     # It hangs on the shoulders at every frame (metrics of a garment that fell off are trivially
-    # good) and moves with the walk.
+    # good): its top at the shoulders, its hem no more than 15 cm below where it was placed
+    # (sewn and hanging from the shoulders it settles about 10 cm lower), and it moves with the walk.
+    placed_hem = min(np.concatenate([np.array([o.matrix_world @ v.co for v in o.data.vertices])[:, 2]
+                                     for o in pieces]))
     for k in range(n):
         z = world_frame(pieces, caches, k)[:, 2]
-        assert z.max() > 1.35 and z.min() > 0.9, (k, z.min(), z.max())
+        assert z.max() > 1.35 and z.min() > placed_hem - 0.15, (k, z.min(), z.max(), placed_hem)
     assert np.abs(all_frames[-1] - all_frames[0]).max() > 0.01
     # Played back by Mesh Cache modifiers: the evaluated pieces are the cached frames, and the
     # pieces' own meshes are untouched.

@@ -104,3 +104,21 @@ def test_flip_and_remap_after_a_change_of_resolution():
 def test_side_by_side_layout():
     rests = [np.array([[0, 0], [1, 0], [1, 2]], np.float32), np.array([[-1, -1], [0, -1], [0, 0]], np.float32)]
     assert core.side_by_side(rests, gap=0.5) == [(0.0, 0.0, 0.0), (2.5, 1.0, 0.0)]
+
+
+def test_scene_garment_welds_as_the_module_welds_the_garment():
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.04)
+    pieces, seams, sim = scene_from_garment(g, 0.04)
+    sg = core.garment_from_scene(pieces, seams)
+    w = core.welded.weld(sg)
+    ref = g.welded(sim.positions)
+    np.testing.assert_array_equal(w.triangles, ref.triangles)
+    np.testing.assert_array_equal(w.positions, ref.positions)
+    assert w.stats["merged"] > 0 and w.num_vertices < sg.num_particles
+    # UVs per corner (the rest shape, as the pieces' TailorRest map holds it) onto the weld.
+    uv = core.welded.welded_corner_values(w, sg.rest[sg.triangles.reshape(-1)])
+    assert uv.shape == (3 * len(w.triangles), 2)
+    text = core.welded.summary(w)
+    assert text.startswith(f"{sg.num_particles} vertices welded into {w.num_vertices} ({w.stats['merged']} merged")
+    with pytest.raises(core.AddonError, match="positions for a garment of"):
+        core.welded.weld(sg, sg.positions[:-1])

@@ -1,6 +1,7 @@
 """The add-on's bpy-free simulation builder and Live worker (`core/simulate.py`,
 `core/simulate_live.py`), against the module, without Blender."""
 
+import re
 import sys
 from pathlib import Path
 
@@ -120,3 +121,16 @@ def test_live_solver_steps_on_its_thread_and_applies_edits():
     kept = len(run.records)
     assert kept in (3, 4) and len(run.frames) == kept
     assert [r["frame"] for r in run.records] == list(range(1, kept + 1))
+
+
+def test_one_seam_stiffness_default_on_every_path():
+    """The module's seams, the garment builder's and the add-on's settings share one default
+    (a closed seam's gap is the cloth's tension over it: 1e3 N/m left mm gaps on the shirt)."""
+    assert tailor.DEFAULT_SEAM_STIFFNESS == pytest.approx(1.0e4)
+    assert core_sim.SimSettings().seam_stiffness == pytest.approx(tailor.DEFAULT_SEAM_STIFFNESS)
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 0.1], [1, 0, 0.1], [0, 1, 0.1]], np.float32)
+    sim = tailor.Simulation(v, np.array([[0, 1, 2], [3, 4, 5]], np.uint32), v[:, :2].copy())
+    sim.add_seam([0, 1], [3, 4], name="s")
+    assert sim.seam_pairs()[0]["stiffness"] == pytest.approx(tailor.DEFAULT_SEAM_STIFFNESS)
+    props = (ROOT / "addon/tailor_addon/simulate/properties.py").read_text()
+    assert re.search(r"seam_stiffness: FloatProperty\([^)]*default=1\.0e4\)", props), "add-on property default"

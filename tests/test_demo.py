@@ -1,6 +1,7 @@
 """`python -m tailor demo` (the README's `make demo`) with a reduced frame count: the sample
-skirt assembles on the walking character, and the rendered frames and contact sheet are images
-of the garment (not empty frames). Skips without the bpy wheel (it renders with Workbench)."""
+skirt assembles on the walking character, and the rendered frames, the contact sheet and the
+animated GIF are images of the garment (not empty frames). Skips without the bpy wheel (it
+renders with Workbench)."""
 
 import importlib.util
 import json
@@ -42,7 +43,7 @@ def test_demo_renders_the_garment_on_the_character(tmp_path):
     out = tmp_path / "demo"
     r = subprocess.run(
         [sys.executable, "-m", "tailor", "demo", "--out", str(out), "--assemble", "30", "--blend", "4",
-         "--frames", "4", "--render-every", "19", "--size", "240x180"],
+         "--frames", "4", "--render-every", "8", "--size", "240x180", "--gif-width", "160"],
         capture_output=True, text=True, timeout=900, cwd=ROOT,
     )
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
@@ -70,3 +71,22 @@ def test_demo_renders_the_garment_on_the_character(tmp_path):
     # The last frame shows the same body as body_only.png plus the skirt: they differ where it is.
     assert stats[str(frames[-1])]["differs"] > 400
     assert stats[str(sheet)]["red"] > 400 * len(s["render"]["contact_sheet"])
+
+    # The animated GIF: every rendered frame, in order, scaled to 160 pixels; animated (the
+    # frames differ: the garment assembles and the body walks) and showing the garment.
+    from PIL import Image, ImageSequence
+
+    anim = s["render"]["animation"]
+    gif = out / anim["file"]
+    assert gif.name == "animation.gif" and gif.stat().st_size == anim["bytes"] > 1000
+    with Image.open(gif) as im:
+        assert im.format == "GIF" and im.is_animated and im.size == (160, 120)
+        assert im.info.get("loop") == 0 and im.info.get("duration", 0) > 0
+        gif_frames = [np.asarray(f.convert("RGB"), np.float32) / 255.0 for f in ImageSequence.Iterator(im)]
+    assert len(gif_frames) == anim["frames"] == len(frames) >= 4
+    for i, a in enumerate(gif_frames):
+        red = (a[:, :, 0] > a[:, :, 1] + 0.2) & (a[:, :, 0] > a[:, :, 2] + 0.15)
+        assert red.sum() > 150, (i, int(red.sum()))  # the skirt, at (160/240)^2 of the PNGs' 400 pixels
+        assert a.std() > 0.05, i  # not a flat frame
+    changed = [float((np.abs(b - a).max(axis=2) > 0.1).mean()) for a, b in zip(gif_frames, gif_frames[1:])]
+    assert all(c > 0.005 for c in changed), changed  # each frame differs from the one before

@@ -25,6 +25,8 @@ def stub_tree():
             classes[node.name] = members
         elif isinstance(node, ast.FunctionDef):
             functions[node.name] = [a.arg for a in node.args.args + node.args.kwonlyargs]
+        elif isinstance(node, ast.AnnAssign) and not node.target.id.startswith("_"):
+            functions[node.target.id] = None  # a module constant
     return classes, functions
 
 

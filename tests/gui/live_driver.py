@@ -50,6 +50,9 @@ TRAVEL = 0.4  # metres the plate slides along +x
 DRAPE_END, MOVE_END = 8, 40  # frames: still while the cloth drapes, then sliding (1 cm per frame)
 PLAY_SECONDS = 20.0  # at most, of wall time: software GL under Xvfb plays only a few frames a second
 MAX_GAP_S = 1.0  # generous: under Xvfb one playback redraw alone takes 0.1-0.5 s on a loaded 2-core machine
+#: On a heavily loaded machine playback alone can pause longer than MAX_GAP_S: the bound is then
+#: that baseline's longest pause with this much headroom (one frame's main-thread share, not a solve).
+BASELINE_HEADROOM = 1.5
 BASELINE_S = 1.5  # playback without Live first, for the gap it costs by itself
 
 
@@ -274,8 +277,10 @@ def scenario():
     check("the timeline advanced", last_frame - first_frame >= 20, (first_frame, last_frame))
     check("Live solved and applied frames while it played", applied >= 20 and ticks > applied, (applied, ticks))
     check("the overlay's fps is above zero", stats["fps"] > 0 and stats["frame"] is not None, stats)
-    check("the UI kept handling timers (no freeze for a solve)", max_gap < MAX_GAP_S,
-          f"max gap {max_gap * 1e3:.0f} ms over {len(gaps)} calls")
+    bound = max(MAX_GAP_S, BASELINE_HEADROOM * fig["baseline_max_gap_ms"] / 1e3)
+    fig["max_ui_gap_bound_ms"] = round(bound * 1e3, 1)
+    check("the UI kept handling timers (no freeze for a solve)", max_gap < bound,
+          f"max gap {max_gap * 1e3:.0f} ms over {len(gaps)} calls (bound {bound * 1e3:.0f} ms)")
     now_pos = np.concatenate([world_positions(o) for o in pieces])
     check("no NaN in the garment", bool(np.isfinite(now_pos).all()))
     check("the garment moved", float(np.abs(now_pos - flat).max()) > 0.02, np.abs(now_pos - flat).max())

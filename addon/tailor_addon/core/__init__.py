@@ -9,6 +9,7 @@ from .errors import AddonError, describe
 from .garment import PieceData, SeamData, SceneGarment, garment_from_scene, piece_mesh, remap_seam_modes
 from .layout import placement_rotation, side_by_side
 from .mesh_arrays import MeshArrays, mesh_arrays
+from . import welded
 
 __all__ = [
     "AddonError",
@@ -23,4 +24,5 @@ __all__ = [
     "side_by_side",
     "MeshArrays",
     "mesh_arrays",
+    "welded",
 ]

@@ -85,7 +85,7 @@ class SimSettings:
     thickness: float = 0.004
     self_collision: bool = False
     fps: float = 30.0
-    seam_stiffness: float = 1000.0
+    seam_stiffness: float = 1.0e4  # tailor.DEFAULT_SEAM_STIFFNESS: the gap of a closed seam is tension / stiffness
     seam_bend_stiffness: float = 1e-5
     friction_static: float = 0.5
     friction_kinetic: float = 0.3

@@ -52,6 +52,8 @@ def menu_import(self, context):
 
 def menu_export(self, context):
     self.layout.operator("tailor.export_garment", text="Tailor Garment (.json)")
+    self.layout.operator("tailor.export_welded", text="Tailor Welded Garment (.obj)").export_format = "OBJ"
+    self.layout.operator("tailor.export_welded", text="Tailor Welded Garment (.glb)").export_format = "GLB"
 
 
 classes = (TAILOR_PT_patterns,)

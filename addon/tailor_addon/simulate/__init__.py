@@ -5,14 +5,16 @@
 - `job.py`: a bake (`tailor.bake.Bake` driven frame by frame, PC2 caches, Mesh Cache playback);
 - `live.py`, `draw.py`: Live mode's main-thread half and its overlay (the worker thread is
   `core/simulate_live.py`);
-- `operators.py`, `ui.py`: the operators and the panel.
+- `operators.py`, `ui.py`: the operators and the panel;
+- `export_welded.py`: Export Welded Garment (the pieces merged along their seams into one mesh
+  at the current frame, optionally written as OBJ or glTF).
 
 The simulation itself is built by the bpy-free `core/simulate.py`.
 """
 
-from . import draw, live, operators, properties, ui
+from . import draw, export_welded, live, operators, properties, ui
 
-classes = properties.classes + operators.classes + ui.classes
+classes = properties.classes + operators.classes + export_welded.classes + ui.classes
 
 
 #: Object > Tailor menu entries (menu.EXTRA), in workflow order.
@@ -24,6 +26,7 @@ MENU = (
     ("tailor.live_stop", "Stop Live"),
     ("tailor.bake", "Bake Simulation"),
     ("tailor.bake_clear", "Free Bake"),
+    ("tailor.export_welded", "Export Welded Garment"),
 )
 
 

@@ -101,8 +101,9 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         name="Self-Collision", description="Cloth against itself (layered garments; fights closing seams)",
         default=False,
     )
+    # tailor.DEFAULT_SEAM_STIFFNESS (a literal: properties are declared before the module loads).
     seam_stiffness: FloatProperty(name="Seam Stiffness", description="N/m, times each seam's factor", min=0.0,
-                                  default=1000.0)
+                                  default=1.0e4)
     seam_bend_stiffness: FloatProperty(name="Seam Bending", min=0.0, default=1e-5, precision=6)
     friction_static: FloatProperty(name="Static Friction", description="Where not painted", min=0.0, default=0.5)
     friction_kinetic: FloatProperty(name="Kinetic Friction", description="Where not painted", min=0.0, default=0.3)

@@ -125,6 +125,10 @@ class TAILOR_PT_simulate_bake(TailorPanel, bpy.types.Panel):
         row.operator("tailor.bake", icon="RENDER_ANIMATION")
         row.operator("tailor.bake", text="Resume", icon="FORWARD").resume = True
         layout.operator("tailor.bake_clear", icon="TRASH")
+        row = layout.row(align=True)
+        row.operator("tailor.export_welded", text="Welded Mesh", icon="AUTOMERGE_ON")
+        row.operator("tailor.export_welded", text="Welded OBJ…", icon="EXPORT").export_format = "OBJ"
+        row.operator("tailor.export_welded", text="glTF…", icon="EXPORT").export_format = "GLB"
         if s.baked_frames:
             layout.label(text=s.bake_report, icon="INFO")
 

@@ -8,6 +8,7 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+DEFAULT_SEAM_STIFFNESS: float
 
 ArrayLike = npt.ArrayLike
 F32 = npt.NDArray[np.float32]
@@ -88,7 +89,7 @@ class Simulation:
     def set_triangle_stiffness(self, stretch: ArrayLike, shear: ArrayLike) -> None: ...
     def set_bending_rest_pose(self, pose: ArrayLike | None = None) -> None: ...
     def add_seam(
-        self, a: ArrayLike, b: ArrayLike, stiffness: float = 1000.0, bend_stiffness: float = 1e-5, name: str = "seam"
+        self, a: ArrayLike, b: ArrayLike, stiffness: float = 10000.0, bend_stiffness: float = 1e-5, name: str = "seam"
     ) -> int: ...
     def add_weighted_seam(
         self,
@@ -96,7 +97,7 @@ class Simulation:
         a_weights: ArrayLike,
         b_vertices: ArrayLike,
         b_weights: ArrayLike,
-        stiffness: float = 1000.0,
+        stiffness: float = 10000.0,
         bend_stiffness: float = 1e-5,
         name: str = "seam",
     ) -> int: ...
@@ -310,6 +311,7 @@ class Garment:
         seam_bend_stiffness: float = 1e-5,
         gap: float = 0.05,
     ) -> tuple[Simulation, list[int]]: ...
+    def welded(self, positions: ArrayLike | None = None, gap: float = 0.05) -> WeldedMesh: ...
 
 def read_pattern(
     path: str, size: str | None = None, units: str | None = None, tolerance: float = 0.0005
@@ -331,3 +333,18 @@ def bend(
     symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
     threshold: float = 0.0,
 ) -> F32: ...
+
+class WeldedMesh:
+    """Sewn pieces merged into one mesh (`weld`, `Garment.welded`)."""
+
+    positions: F32
+    triangles: npt.NDArray[np.uint32]
+    vertex_map: npt.NDArray[np.uint32]
+    triangle_source: npt.NDArray[np.uint32]
+    corner_weights: F32
+    num_vertices: int
+    stats: dict[str, int]
+    def apply(self, frame: ArrayLike) -> F32: ...
+    def apply_corners(self, values: ArrayLike) -> F32: ...
+
+def weld(positions: ArrayLike, triangles_: ArrayLike, seams: Sequence[dict[str, Any]]) -> WeldedMesh: ...

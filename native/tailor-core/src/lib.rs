@@ -24,6 +24,8 @@
 //! * `gpu` (feature `gpu`): the per-frame solve on the GPU with wgpu (WGSL compute shaders),
 //!   chosen through [`solver::Solver`]'s [`solver::Backend`].
 //! * [`stability`]: the numerical stress cases (`tests/stability.rs`, `make stress`).
+//! * [`weld`]: the sewn pieces merged along their seams into one mesh, for export (unequal seams
+//!   split so the result stays watertight).
 //! * [`io`]: triangle meshes from OBJ, PLY and glTF (skinned animation included) and the
 //!   Point Cache 2 vertex-animation format.
 //!
@@ -45,6 +47,7 @@ pub mod seam;
 pub mod solver;
 pub mod stability;
 pub mod triangulate;
+pub mod weld;
 
 #[cfg(test)]
 mod test_util;

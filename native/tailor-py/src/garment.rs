@@ -17,6 +17,7 @@ use crate::convert::{points2, points3};
 use crate::errors::to_py;
 use crate::patterns::{read_options, rows, Piece, PieceMesh};
 use crate::seams::Seam;
+use crate::weld::WeldedMesh;
 
 /// A garment: pattern pieces with their resolution, placement and bend, and the seams between
 /// them. Meshes are rebuilt from the pieces (triangulation is deterministic) and cached.
@@ -223,6 +224,24 @@ impl Garment {
             )?;
         }
         Ok((sim, input.sewn.offsets.clone()))
+    }
+
+    /// The garment as one mesh (`tailor.WeldedMesh`): the pieces sewn as `build_simulation`
+    /// sews them, merged along every seam, at `positions` (one per particle, e.g. a simulation's
+    /// `positions`) or as placed when `None`.
+    #[pyo3(signature = (positions=None, gap=0.05))]
+    fn welded(&mut self, py: Python<'_>, positions: Option<Bound<'_, PyAny>>, gap: f64) -> PyResult<WeldedMesh> {
+        let positions = positions.map(|p| points3(&p, "positions")).transpose()?;
+        let meshes = self.meshes_ref(py)?.clone();
+        let g = &self.inner;
+        let options = BuildOptions { gap, ..BuildOptions::default() };
+        let inner = py
+            .detach(|| {
+                let input = core::solver_input(g, meshes, &options)?;
+                tailor_core::weld::weld_garment(&input, positions.as_deref())
+            })
+            .map_err(to_py)?;
+        Ok(WeldedMesh { inner })
     }
 
     fn __repr__(&self) -> String {

@@ -15,12 +15,15 @@ mod scenes;
 mod seams;
 mod settings;
 mod simulation;
+mod weld;
 
 use pyo3::prelude::*;
 
 #[pymodule]
 fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // One default for every path that sews (Simulation.add_seam, garments, the add-on).
+    m.add("DEFAULT_SEAM_STIFFNESS", tailor_core::garment::DEFAULT_SEAM_STIFFNESS)?;
     errors::register(m)?;
     m.add_class::<settings::Fabric>()?;
     m.add_class::<settings::Settings>()?;
@@ -39,5 +42,6 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     contour::register(m)?;
     m.add_class::<seams::Seam>()?;
     garment::register(m)?;
+    weld::register(m)?;
     Ok(())
 }

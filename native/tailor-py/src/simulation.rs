@@ -3,6 +3,7 @@
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use tailor_core::garment::DEFAULT_SEAM_STIFFNESS;
 use tailor_core::mesh::ClothMesh;
 use tailor_core::solver::{
     self as core, Attachment, ImplicitCollider, RampPhase, ReferenceOptions, Seam, SeamPoint, Shape, StepStats,
@@ -243,7 +244,7 @@ impl Simulation {
 
     /// Sews vertex path `a` to vertex path `b` one-to-one (equal counts). Returns the number
     /// of hinges created across the sewn edges.
-    #[pyo3(signature = (a, b, stiffness=1000.0, bend_stiffness=1e-5, name="seam"))]
+    #[pyo3(signature = (a, b, stiffness=DEFAULT_SEAM_STIFFNESS, bend_stiffness=1e-5, name="seam"))]
     fn add_seam(
         &mut self,
         a: &Bound<'_, PyAny>,
@@ -261,7 +262,7 @@ impl Simulation {
     /// Sews weighted points: each side is (k, 2) vertex indices and (k, 2) weights summing to
     /// one per row (an edge point; a single vertex has weights (1, 0)). Seams of unequal
     /// vertex counts use this.
-    #[pyo3(signature = (a_vertices, a_weights, b_vertices, b_weights, stiffness=1000.0, bend_stiffness=1e-5, name="seam"))]
+    #[pyo3(signature = (a_vertices, a_weights, b_vertices, b_weights, stiffness=DEFAULT_SEAM_STIFFNESS, bend_stiffness=1e-5, name="seam"))]
     #[allow(clippy::too_many_arguments)]
     fn add_weighted_seam(
         &mut self,

@@ -37,6 +37,8 @@ def register(sub):
     p.add_argument("--no-render", action="store_true", help="character: simulate and report only (no Blender)")
     p.add_argument("--render-every", type=int, default=2, help="character: render every Nth frame (default 2)")
     p.add_argument("--size", default="480x360", help="character: rendered image size, WxH")
+    p.add_argument("--gif-width", type=int, default=360,
+                   help="character: width of animation.gif in pixels (0: the rendered size; default 360)")
     p.set_defaults(run=run)
 
 

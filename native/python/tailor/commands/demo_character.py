@@ -7,6 +7,7 @@ sheet. Prints per-phase timings (ms/frame, particles) and quality figures (seam 
 penetration, strain); writes into the output folder:
 
 * ``frames/frame_NNNN.png``: the image sequence; ``contact_sheet.png``: a grid of frames;
+  ``animation.gif``: the frames as an animated image (played at the simulation's speed);
 * ``garment.pc2``: the garment's positions at every simulated frame (Y-up, metres);
 * ``report.json``: one record per frame and a summary.
 """
@@ -121,6 +122,9 @@ def run(args):
         print(f"render:   {r['images']} frames {r['size']} (Workbench) in {r['seconds']:.1f} s "
               f"({r['seconds'] / max(r['images'], 1) * 1e3:.0f} ms/frame) -> {out / 'frames'}, "
               f"{out / 'contact_sheet.png'}")
+        a = r["animation"]
+        print(f"animation: {a['frames']} frames {a['size']}, {a['ms_per_frame']} ms each, "
+              f"{a['bytes'] / 1e3:.0f} kB -> {out / a['file']}")
     summary["total_s"] = time.perf_counter() - t_all
     with open(out / "report.json.tmp", "w") as fh:
         json.dump({"summary": summary, "frames": records}, fh, indent=1)
@@ -160,5 +164,7 @@ def render(args, out: Path, d, character, body_frames, cloth_frames, info) -> di
     chosen = [paths[int(round(i * (len(paths) - 1) / max(k - 1, 1)))] for i in range(k)]
     sheet = demo_render.contact_sheet([r.read_png(p) for p in chosen], columns=4 if k >= 4 else k)
     r.write_png(out / "contact_sheet.png", sheet)
+    anim = demo_render.animation(paths, out / "animation.gif", fps=30.0 / args.render_every,
+                                 width=min(w, args.gif_width) if args.gif_width else None)
     return {"images": len(paths), "size": f"{w}x{h}", "frames": [p.name for p in paths],
-            "contact_sheet": [p.name for p in chosen]}
+            "contact_sheet": [p.name for p in chosen], "animation": anim}

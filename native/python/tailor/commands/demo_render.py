@@ -4,7 +4,8 @@ The scene is built once from arrays (the body and the garment as two meshes, a c
 studio light); for each frame the two meshes' vertices are replaced with `foreach_set` (one
 copy each) and a still is rendered. The arrays are Y-up (glTF, garment files) and turned to
 Blender's Z-up here: (x, y, z) -> (x, -z, y). A contact sheet (a grid of frames, labelled by
-nothing but their order) is composed from the written PNGs with numpy.
+nothing but their order) is composed from the written PNGs with numpy, and an animated GIF of
+the frames with Pillow (`animation`).
 """
 
 from __future__ import annotations
@@ -20,18 +21,24 @@ SKIN = (0.80, 0.62, 0.52)
 BACKGROUND = (0.93, 0.93, 0.95)
 
 
-def ensure_bpy() -> None:
-    """Imports `bpy`, installing the wheel into this interpreter first if it is missing (the
-    bootstrap installs it; a plain `pip install tailor` environment may not have it)."""
-    try:
-        import bpy  # noqa: F401
+def ensure(module: str, requirement: str, what: str) -> None:
+    """Imports `module`, installing `requirement` into this interpreter first if it is missing
+    (the bootstrap installs it; a plain `pip install tailor` environment may not have it)."""
+    import importlib
 
+    try:
+        importlib.import_module(module)
         return
     except ImportError:
         pass
-    print('demo: the bpy wheel is missing: installing "bpy==4.5.*" (Blender as a Python module, ~370 MB)', flush=True)
-    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "bpy==4.5.*"], check=True)
-    import bpy  # noqa: F401
+    print(f'demo: {module} is missing: installing "{requirement}" ({what})', flush=True)
+    subprocess.run([sys.executable, "-m", "pip", "install", "-q", requirement], check=True)
+    importlib.invalidate_caches()
+    importlib.import_module(module)
+
+
+def ensure_bpy() -> None:
+    ensure("bpy", "bpy==4.5.*", "Blender as a Python module, ~370 MB")
 
 
 def z_up(p: np.ndarray) -> np.ndarray:
@@ -146,3 +153,25 @@ def contact_sheet(frames: list[np.ndarray], columns: int, gap: int = 4) -> np.nd
         y, x = gap + r * (h + gap), gap + c * (w + gap)
         sheet[y:y + h, x:x + w] = f
     return sheet
+
+
+def animation(frames: list[Path], path: Path, fps: float, width: int | None = None) -> dict:
+    """An animated GIF of the PNG `frames` at `fps`, looping, scaled to `width` pixels (None: as
+    rendered). GIF because every browser, viewer and Markdown renderer plays it; each frame gets
+    its own 256-colour palette (the renders are smooth shading on a flat background) and Pillow
+    stores only the part of each frame that changed."""
+    ensure("PIL", "pillow>=10", "image library, ~4 MB")
+    from PIL import Image
+
+    images = []
+    for f in frames:
+        with Image.open(f) as im:
+            im = im.convert("RGB")
+            if width and im.width != width:
+                im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
+            images.append(im)
+    duration = max(20, round(1000.0 / fps / 10) * 10)  # GIF delays are in 1/100 s
+    images[0].save(path, save_all=True, append_images=images[1:], duration=duration, loop=0, optimize=True,
+                   disposal=1)
+    return {"file": path.name, "frames": len(images), "size": f"{images[0].width}x{images[0].height}",
+            "ms_per_frame": duration, "bytes": path.stat().st_size}

@@ -16,7 +16,7 @@ pub mod from_pattern;
 pub mod resolution;
 pub mod stitches;
 
-pub use build::{build_simulation, solver_input, triangulate_all, BuildOptions, SolverInput};
+pub use build::{build_simulation, solver_input, triangulate_all, BuildOptions, SolverInput, DEFAULT_SEAM_STIFFNESS};
 pub use from_pattern::{garment_from_pattern, import_warnings, read_garment};
 pub use resolution::set_resolution;
 pub use stitches::stitch_seam;

@@ -102,9 +102,8 @@ class Bake:
     garment assembles: `preroll` steps with the colliders at `assembly` (a pose the pattern is
     placed for, typically the rest pose; the start frame's positions when None), then
     `transition` steps moving them from `assembly` to the start frame's positions along a
-    smoothstep (3t² - 2t³: the body starts and ends the move at rest; moved linearly, it starts
-    and stops with a jolt that the contacts of a garment on a walking character do not follow:
-    tests/addon/diagnose_bake.py).
+    smoothstep (3t² - 2t³: the body starts and ends the move at rest, no jolt at either end for
+    the cloth's contacts, as `tailor.commands.on_character` blends).
     With `assembly_gravity` set (typically zero) the preroll runs under that gravity: a garment
     whose seams are still open has nothing to hang on and would fall off the body while they
     close. `frames[i]` and `records[i]` are frame `start + i`."""

@@ -101,7 +101,9 @@ class Bake:
     `1/fps` seconds with the colliders at that frame. Before frame `start` is recorded, the
     garment assembles: `preroll` steps with the colliders at `assembly` (a pose the pattern is
     placed for, typically the rest pose; the start frame's positions when None), then
-    `transition` steps moving them linearly from `assembly` to the start frame's positions.
+    `transition` steps moving them from `assembly` to the start frame's positions along a
+    smoothstep (3t² - 2t³: the body starts and ends the move at rest, no jolt at either end for
+    the cloth's contacts, as `tailor.commands.on_character` blends).
     With `assembly_gravity` set (typically zero) the preroll runs under that gravity: a garment
     whose seams are still open has nothing to hang on and would fall off the body while they
     close. `frames[i]` and `records[i]` are frame `start + i`."""
@@ -177,6 +179,7 @@ class Bake:
             b = [np.asarray(p, np.float32) for p in start_positions]
             for k in range(1, self.transition + 1):
                 t = k / self.transition
+                t = t * t * (3.0 - 2.0 * t)
                 self._set_colliders([(1.0 - t) * pa + t * pb for pa, pb in zip(a, b)])
                 self.sim.step(dt)
         self.prerolled = True

@@ -1,7 +1,8 @@
 """The Simulate tests' scene: the sample character walking, the GarmentCode shirt imported
 through the add-on and turned into the character's Z-up frame, an isotropic collider proxy.
 
-Shared by tests/addon/test_simulate*.py and the add-on benchmark (bench_addon.py)."""
+Shared by tests/addon/test_simulate*.py and the add-on benchmarks (bench_simulate.py;
+bench_garments.py through cloth_scene.py)."""
 
 from __future__ import annotations
 
@@ -41,14 +42,7 @@ def shirt_on_character(blend_path: Path, edge: float = 0.03, proxy_voxel: float 
     for o in pieces:
         o.matrix_world = Matrix.Translation((0.0, 0.0, lift)) @ (Y_UP_TO_Z_UP if y_up else Matrix()) @ o.matrix_world
     body = bpy.data.objects["Body"]
-    for o in scene.objects:
-        o.select_set(o == body)
-    bpy.context.view_layer.objects.active = body
-    assert bpy.ops.tailor.mark_collider() == {"FINISHED"}
-    collider = body
-    if proxy_voxel:
-        assert bpy.ops.tailor.collider_proxy(voxel_size=proxy_voxel) == {"FINISHED"}
-        collider = bpy.data.objects[f"{body.name}_collider"]
+    collider = mark_collider(scene, body, proxy_voxel)
     s = scene.tailor_simulate
     scene.frame_start, scene.frame_end = frames
     if preroll is not None:  # else the panel's default (60 frames, then a 40-frame transition)
@@ -56,3 +50,16 @@ def shirt_on_character(blend_path: Path, edge: float = 0.03, proxy_voxel: float 
     scene.frame_set(frames[0])
     bpy.ops.wm.save_as_mainfile(filepath=str(blend_path))
     return {"scene": scene, "pieces": pieces, "body": body, "collider": collider}
+
+
+def mark_collider(scene, body, proxy_voxel: float | None = None):
+    """Marks `body` as the collider with the add-on's operator, or makes its isotropic proxy
+    (voxel size `proxy_voxel`) and lets that collide instead; returns the collider object."""
+    for o in scene.objects:
+        o.select_set(o == body)
+    bpy.context.view_layer.objects.active = body
+    assert bpy.ops.tailor.mark_collider() == {"FINISHED"}
+    if not proxy_voxel:
+        return body
+    assert bpy.ops.tailor.collider_proxy(voxel_size=proxy_voxel) == {"FINISHED"}
+    return bpy.data.objects[f"{body.name}_collider"]

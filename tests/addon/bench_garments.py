@@ -145,9 +145,22 @@ def tailor_bake(path: Path, setup: dict, preset: str, name: str) -> dict:
 # ---- Blender's Cloth ----------------------------------------------------------------------------
 
 
+#: Set by --blender-unpin: Blender's Cloth without the painted pins while Tailor keeps them.
+BLENDER_UNPIN = False
+
+
+def unpinned(arrays: dict) -> dict:
+    """The garment without pins: Blender's pin group holds a vertex where it is from the first
+    frame (it cannot wait for the seams to close and then ride on the body, as Tailor's pins do),
+    so with the samples' pins its seams stay open; without them is its best case here."""
+    return {**arrays, "pinned": arrays["pinned"][:0], "pin_weights": arrays["pin_weights"][:0]}
+
+
 def blender_live(path: Path, setup: dict, name: str, q: int, warmup: int) -> dict:
     scene = open_scene(path)
     arrays, _ = cloth_scene.garment_arrays(scene, name)
+    if BLENDER_UNPIN:
+        arrays = unpinned(arrays)
     obj, mod, pairs = cloth_scene.blender_cloth(scene, arrays, setup, q)
     wall, cpu = {}, {}
     l0 = load()
@@ -165,6 +178,8 @@ def blender_live(path: Path, setup: dict, name: str, q: int, warmup: int) -> dic
 def blender_bake(path: Path, setup: dict, name: str, q: int) -> dict:
     scene = open_scene(path)
     arrays, _ = cloth_scene.garment_arrays(scene, name)
+    if BLENDER_UNPIN:
+        arrays = unpinned(arrays)
     obj, mod, pairs = cloth_scene.blender_cloth(scene, arrays, setup, q)
     l0 = load()
     w0, c0 = time.perf_counter(), time.process_time()
@@ -281,8 +296,12 @@ def main() -> None:
                     "voxel size (m) instead of the character's mesh (both simulators)")
     ap.add_argument("--unpin", action="store_true", help="without the samples' painted pins (weight 1 pins "
                     "in place: a seam between two pinned bands cannot close)")
+    ap.add_argument("--blender-unpin", action="store_true", help="Blender's Cloth without the painted pins "
+                    "(its pins cannot wait for the seams and then ride on the body); Tailor keeps them")
     ap.add_argument("--out", default=str(ROOT / "out" / "bench-addon" / "garments.json"))
     args = ap.parse_args()
+    global BLENDER_UNPIN
+    BLENDER_UNPIN = args.blender_unpin
     garments = [g for g in args.garments.split(",") if g]
     for g in garments:
         if g not in GARMENTS:

@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon bench-error stress samples
+.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -50,9 +50,20 @@ $(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
 bench: develop
 	cargo bench -p tailor-core --bench solver
 
-## Add-on level: Live fps and Bake s/frame of the shirt on the walking character (bpy wheel).
+## Add-on level (bpy wheel): the sample garments on the walking character, Tailor's Live fps and
+## Bake s/frame against Blender's Cloth with sewing springs, with the quality of both
+## (docs/benchmarks.md, "Add-on: Simulate"). BENCH_ARGS, e.g. --garments tshirt,skirt,trousers,layered.
 bench-addon: addon
+	$(PY) tests/addon/bench_garments.py $(BENCH_ARGS)
+
+## Add-on level: Live fps and Bake s/frame of the imported GarmentCode shirt, proxy against body collider.
+bench-addon-shirt: addon
 	$(PY) tests/addon/bench_simulate.py
+
+## When and where the Simulate test scene's bake loses quality: one line per preroll, transition
+## and recorded frame (seam gap, penetration into the collider and the body, strain, where).
+diagnose-bake: addon
+	$(PY) tests/addon/diagnose_bake.py
 
 ## Regenerate sample_blends/character.blend and .glb (rig, skin, walk and run) from
 ## sample_blends/sources, with contact sheets in out/character and the docs' previews.

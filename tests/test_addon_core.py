@@ -69,6 +69,24 @@ def test_scene_garment_builds_the_same_simulation_as_the_module():
     )
 
 
+def test_scene_garment_with_darts_builds_like_the_module():
+    """The jumpsuit's trouser panels have darts: a dart's tip is sewn to itself, which the
+    module's garment build leaves out; the add-on's build must too (the solver refuses it)."""
+    g = tailor.Garment.from_pattern(str(DATA / "garmentcode/js_mean_all_specification.json"), edge=0.04)
+    pieces, seams, reference = scene_from_garment(g, 0.04)
+    sg = core.garment_from_scene(pieces, seams)
+    tips = sum(
+        int(((r["pair_a_vertices"][:, 0] == r["pair_b_vertices"][:, 0]) & (s.a.piece == s.b.piece)).sum())
+        for s, r in zip(sg.seams, sg.resolved)
+    )
+    assert tips > 0  # the case this test is about
+    sim = sg.build_simulation()
+    assert sum(len(p["a_vertices"]) for p in sim.seam_pairs()) == sum(
+        len(p["a_vertices"]) for p in reference.seam_pairs()
+    )
+    assert sim.seam_gaps() == pytest.approx(reference.seam_gaps())
+
+
 def test_edited_mesh_is_refused_with_what_to_do():
     g = tailor.Garment.from_pattern(str(SHIRT), edge=0.04)
     pieces, seams, _ = scene_from_garment(g, 0.04)

@@ -59,12 +59,14 @@ def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
     pin[3:5] = 0.5
     maps = [{"pin": (pin, pin > 0), "collision_level": (np.full(n0, 2, np.int32), np.ones(n0, bool))}, {}]
     v, t = box()
-    built = core_sim.build(g, core_sim.SimSettings(), fabrics, maps, [core_sim.ColliderData("box", v, t)])
+    fixed = core_sim.SimSettings(pin_mode="FIXED")
+    built = core_sim.build(g, fixed, fabrics, maps, [core_sim.ColliderData("box", v, t)])
     sim = built.sim
+    assert built.pins is None
     assert "different bending stiffness" in built.warnings[0]
     # The second piece's density is twice the first's: its particles weigh twice as much as with
     # one fabric for both.
-    same = core_sim.build(g, core_sim.SimSettings(), [fabrics[0]] * 2, maps, [core_sim.ColliderData("box", v, t)])
+    same = core_sim.build(g, fixed, [fabrics[0]] * 2, maps, [core_sim.ColliderData("box", v, t)])
     np.testing.assert_allclose(sim.masses[n0:], 2 * same.sim.masses[n0:], rtol=1e-6)
     np.testing.assert_allclose(sim.masses[:n0], same.sim.masses[:n0], rtol=1e-6)
     assert (sim.particle_levels[:n0] == 2).all() and (sim.particle_levels[n0:] == 0).all()
@@ -73,6 +75,21 @@ def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
     before = sim.positions[:3].copy()
     sim.step(1 / 30)
     np.testing.assert_array_equal(sim.positions[:3], before)  # hard pins stay
+    # Pin mode ATTACH (the default): nothing is pinned in place; the painted pins wait in
+    # `Built.pins` for `Bake` to attach them to the collider, weight 1 at the pin stiffness,
+    # lower weights in proportion.
+    riding = core_sim.build(g, core_sim.SimSettings(pin_stiffness=80.0), fabrics, maps,
+                            [core_sim.ColliderData("box", v, t)])
+    assert riding.pins is not None and riding.pins.collider == riding.colliders[0].id and not riding.pins.attached
+    assert [(p.tolist(), k) for p, k in riding.pins.groups] == [([0, 1, 2], 80.0), ([3, 4], 40.0)]
+    first = riding.sim.positions[:3].copy()
+    riding.sim.step(1 / 30)
+    assert len(riding.sim.collider_attached) == 0 and np.abs(riding.sim.positions[:3] - first).max() > 0
+    # Without a collider there is nothing to ride on: held in place, with a warning.
+    alone = core_sim.build(g, core_sim.SimSettings(), fabrics, maps, [])
+    assert alone.pins is None and any("no collider" in w for w in alone.warnings)
+    with pytest.raises(tailor.InvalidParameterError, match="pin mode"):
+        core_sim.build(g, core_sim.SimSettings(pin_mode="GLUED"), fabrics, maps, [])
     assert built.colliders[0].name == "box" and sim.num_mesh_colliders == 1
     bad = v.copy()
     bad[2, 0] = np.inf

@@ -97,3 +97,36 @@ def test_pc2_written_atomically(tmp_path, square):
     with pytest.raises(tailor.TailorError):
         bake.write_pc2_atomic(tmp_path / "missing" / "x.pc2", b.positions(), start_frame=1)
     assert [p.name for p in tmp_path.iterdir()] == ["cache.pc2"]
+
+
+def test_collider_pins_wait_for_the_seams_then_ride_on_the_collider(tube):
+    """Pins riding on a collider (`ColliderPins`) are not attached while the seams close (they
+    would hold them open), are attached once the ramp stops closing, and then follow the
+    collider as it moves."""
+    settings = tailor.Settings(substeps=4, iterations=10, gravity=(0.0, 0.0, 0.0))
+    sim = tailor.Simulation(tube["positions"], tube["triangles"], tube["rest"], tailor.Fabric(), settings)
+    for name, a, b in tube["seams"]:
+        sim.add_seam(a, b, name=name)
+    v, t = box(0.06, 0.15)  # inside the tube
+    cid = sim.add_mesh_collider(v, t)
+    top = np.flatnonzero(tube["positions"][:, 2] > 0.299)
+    pins = bake.ColliderPins(cid, [(top, 100.0)])
+    run = bake.Bake(sim, [bake.Collider("box", cid, len(v))], fps=30.0, start=1, preroll=1, pins=pins)
+    gap0 = sim.seam_gaps()[0]
+    attached_at = None
+    for frame in range(1, 16):
+        rec = run.step([v])
+        if attached_at is None and pins.attached:
+            attached_at = frame
+            assert rec["seam_gap_max_m"] < 0.25 * gap0, rec  # the seams had met
+            assert sorted(sim.collider_attached.tolist()) == sorted(top.tolist())
+        if attached_at is None:
+            assert len(sim.collider_attached) == 0
+    assert attached_at is not None and attached_at > 1, attached_at  # not from the first frame
+    before = sim.positions[top]
+    end = run.next_frame + 10
+    run.run(lambda f: [v + np.float32([0.0, 0.0, 0.005 * (f - end + 10)])], end)
+    moved = sim.positions[top] - before
+    # The box rose 5 cm: so did the pinned top edge, without drifting sideways.
+    np.testing.assert_allclose(moved[:, 2], 0.05, atol=2e-3)
+    assert np.abs(moved[:, :2]).max() < 2e-3

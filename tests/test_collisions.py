@@ -168,3 +168,57 @@ def test_metric_functions_over_arrays():
         tailor.edge_strain(pos, [[0, 5]], [1.0])
     with pytest.raises(tailor.InvalidParameterError):
         tailor.kinetic_energy(np.ones((2, 3), np.float32), [1.0])
+
+
+def rotate_z(v: np.ndarray, angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return (v @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]], np.float32).T).astype(np.float32)
+
+
+def test_attach_to_collider_rides_on_a_turning_collider():
+    """Particles attached to a sphere collider turn and rise with it (no gravity: the rest of
+    the cloth would pull them a few mm down, 6.5 mm measured, which is physics, not riding)."""
+    pos, tris, rest = grid(z=0.23)
+    sim = tailor.Simulation(pos, tris, rest, tailor.Fabric(density=0.2, stretch=60.0, shear=60.0),
+                            tailor.Settings(gravity=(0.0, 0.0, 0.0)))
+    v, f = octahedron_sphere()
+    cid = sim.add_mesh_collider(v, f)
+    start = sim.positions
+    ring = np.flatnonzero(np.linalg.norm(start[:, :2], axis=1) < 0.06)  # the middle, over the pole
+    sim.attach_to_collider(ring, cid, 100.0)
+    assert sorted(sim.collider_attached.tolist()) == sorted(ring.tolist())
+    np.testing.assert_allclose(sim.collider_attachment_targets, start[sim.collider_attached], atol=1e-6)
+    for k in range(1, 21):
+        t = k / 20
+        sim.set_collider_positions(cid, rotate_z(v, 0.5 * np.pi * t) + np.float32([0.0, 0.0, 0.1 * t]))
+        sim.step(1 / 30)
+    p = sim.positions
+    expect = rotate_z(start[ring], 0.5 * np.pi) + np.float32([0.0, 0.0, 0.1])
+    err = np.linalg.norm(p[ring] - expect, axis=1).max()
+    assert err < 2e-3, f"attached particles {err} m from the collider's motion"
+    # The targets are the attach-time positions carried by the collider's rigid motion exactly.
+    order = sim.collider_attached
+    np.testing.assert_allclose(sim.collider_attachment_targets,
+                               rotate_z(start[order], 0.5 * np.pi) + np.float32([0.0, 0.0, 0.1]), atol=1e-5)
+    sim.detach_from_collider(ring[:3])
+    assert len(sim.collider_attached) == len(ring) - 3
+    sim.detach_from_collider()
+    assert len(sim.collider_attached) == 0
+
+
+def test_attach_to_collider_bad_input():
+    sim = make_sim()
+    v, f = octahedron_sphere(subdiv=1)
+    cid = sim.add_mesh_collider(v, f)
+    with pytest.raises(tailor.InvalidMeshError, match="collider id"):
+        sim.attach_to_collider([0, 1], cid + 1, 100.0)
+    with pytest.raises(tailor.InvalidMeshError, match="collider id"):
+        sim.attach_to_collider([0, 1], -1, 100.0)
+    with pytest.raises(tailor.InvalidMeshError, match="particles"):
+        sim.attach_to_collider([0, sim.num_particles], cid, 100.0)
+    for k in (0.0, -5.0, float("nan"), float("inf")):
+        with pytest.raises(tailor.InvalidParameterError, match="stiffness"):
+            sim.attach_to_collider([0, 1], cid, k)
+    with pytest.raises(tailor.InvalidMeshError):
+        sim.detach_from_collider([sim.num_particles])
+    assert len(sim.collider_attached) == 0

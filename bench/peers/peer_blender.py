@@ -24,39 +24,26 @@ AIR_DAMPING = 0.2  # 1/s, Tailor's default air damping
 BLENDER_MASS = 0.3  # kg per vertex, Blender's default
 
 
-def run(scene: dict, knob: dict, cap: float = float("inf")) -> dict:
+def cloth_object(sc, scene: dict, knob: dict, name: str = "cloth"):
+    """Blender's Cloth on `scene`'s garment, linked into Blender scene `sc`: one mesh with the
+    scene's particles (world space, in order) and triangles, its sewn pairs rounded to vertex
+    pairs as loose edges with sewing springs on, its pins as the pin group (a `pin_weights`
+    array beside `pinned` gives soft pins), material, air damping, thickness and
+    self-collision mapped as the module doc says. Returns (object, Cloth modifier, vertex pairs).
+    The caller sets the point cache's frames and adds the body (`collision_body`)."""
     import bpy
-
-    t0 = time.perf_counter()
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sc = bpy.context.scene
-    frames = int(scene["frames"])
-    sc.render.fps, sc.render.fps_base = int(round(float(scene["fps"]))), 1.0
-    sc.frame_start, sc.frame_end = 1, frames + 1
-    sc.gravity = tuple(float(g) for g in scene["gravity"])
-    sc.use_gravity = True
 
     pos, tris = scene["positions"], scene["triangles"]
     pairs = scenes.vertex_pairs(scene)
-    mesh = bpy.data.meshes.new("cloth")
+    mesh = bpy.data.meshes.new(name)
     mesh.from_pydata(pos.tolist(), pairs.tolist(), tris.tolist())
     mesh.update()
     loose = sum(1 for e in mesh.edges if e.is_loose)
     if (len(mesh.vertices), len(mesh.polygons), loose) != (len(pos), len(tris), len(pairs)):
         raise RuntimeError(f"Blender mesh has {len(mesh.vertices)} vertices / {len(mesh.polygons)} faces / {loose} "
                            f"seam edges, the scene {len(pos)} / {len(tris)} / {len(pairs)}")
-    obj = bpy.data.objects.new("cloth", mesh)
+    obj = bpy.data.objects.new(name, mesh)
     sc.collection.objects.link(obj)
-
-    if len(scene["body_triangles"]):
-        bmesh_ = bpy.data.meshes.new("body")
-        bmesh_.from_pydata(scene["body_vertices"].tolist(), [], scene["body_triangles"].tolist())
-        bmesh_.update()
-        body = bpy.data.objects.new("body", bmesh_)
-        sc.collection.objects.link(body)
-        body.modifiers.new("Collision", "COLLISION")
-        body.collision.thickness_outer = 0.001  # + the cloth's distance_min below = the scene's thickness
-        body.collision.thickness_inner = 0.01
 
     mod = obj.modifiers.new("Cloth", "CLOTH")
     cs, cc = mod.settings, mod.collision_settings
@@ -78,7 +65,12 @@ def run(scene: dict, knob: dict, cap: float = float("inf")) -> dict:
     cs.air_damping = 100.0 * AIR_DAMPING * BLENDER_MASS
     if len(scene["pinned"]):
         vg = obj.vertex_groups.new(name="pin")
-        vg.add(scene["pinned"].tolist(), 1.0, "REPLACE")
+        weights = scene.get("pin_weights")
+        if weights is None:
+            vg.add(scene["pinned"].tolist(), 1.0, "REPLACE")
+        else:
+            for w in np.unique(weights):
+                vg.add(scene["pinned"][weights == w].tolist(), float(w), "REPLACE")
         cs.vertex_group_mass = "pin"
     if len(pairs):
         cs.use_sewing_springs = True
@@ -89,6 +81,38 @@ def run(scene: dict, knob: dict, cap: float = float("inf")) -> dict:
     cc.distance_min = float(scene["thickness"]) - 0.001
     cc.use_self_collision = bool(scene["self_collision"])
     cc.self_distance_min = float(scene["thickness"])
+    return obj, mod, pairs
+
+
+def collision_body(obj) -> None:
+    """A Collision modifier on `obj` (after its deforming modifiers): 1 mm outer thickness, which
+    with the cloth's `distance_min` (thickness - 1 mm) keeps the scene's thickness."""
+    obj.modifiers.new("Collision", "COLLISION")
+    obj.collision.thickness_outer = 0.001
+    obj.collision.thickness_inner = 0.01
+
+
+def run(scene: dict, knob: dict, cap: float = float("inf")) -> dict:
+    import bpy
+
+    t0 = time.perf_counter()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    frames = int(scene["frames"])
+    sc.render.fps, sc.render.fps_base = int(round(float(scene["fps"]))), 1.0
+    sc.frame_start, sc.frame_end = 1, frames + 1
+    sc.gravity = tuple(float(g) for g in scene["gravity"])
+    sc.use_gravity = True
+
+    if len(scene["body_triangles"]):
+        bmesh_ = bpy.data.meshes.new("body")
+        bmesh_.from_pydata(scene["body_vertices"].tolist(), [], scene["body_triangles"].tolist())
+        bmesh_.update()
+        body = bpy.data.objects.new("body", bmesh_)
+        sc.collection.objects.link(body)
+        collision_body(body)
+    obj, mod, pairs = cloth_object(sc, scene, knob)
+    pos = scene["positions"]
     mod.point_cache.frame_start, mod.point_cache.frame_end = 1, frames + 1
     sc.frame_set(1)
     setup = time.perf_counter() - t0

@@ -1,4 +1,4 @@
-"""Add-on level benchmark of Simulate (`make bench-addon`): Live frames per second and Bake
+"""Add-on level benchmark of Simulate (`make bench-addon-shirt`): Live frames per second and Bake
 seconds per frame for the GarmentCode shirt on the walking sample character, through the
 installed add-on on the bpy wheel (as `tests/addon/conftest.py` installs it).
 
@@ -16,28 +16,13 @@ import json
 import os
 import platform
 import statistics
-import sys
 import tempfile
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parents[1]
-sys.path[:] = [p for p in sys.path if not p.startswith(str(ROOT / "native" / "python"))]
-sys.path.insert(0, str(HERE))
-USER_DIR = Path(tempfile.mkdtemp(prefix="tailor-bench-user-"))
-os.environ["BLENDER_USER_RESOURCES"] = str(USER_DIR)
+from bench_env import MODULE, install  # noqa: E402  (before bpy: Blender's user directory)
 
 import bpy  # noqa: E402
-
-MODULE = "bl_ext.user_default.tailor_addon"
-
-
-def install() -> None:
-    zip_path = ROOT / "dist" / "tailor_addon.zip"
-    if not zip_path.is_file():
-        sys.exit(f"{zip_path} is missing: make addon")
-    bpy.ops.extensions.package_install_files(filepath=str(zip_path), repo="user_default", enable_on_install=True)
 
 
 def bench_live(scene_dir: Path, proxy: float | None, edge: float, ticks: int, preset: str) -> dict:

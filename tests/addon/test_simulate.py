@@ -2,7 +2,7 @@
 
 The scene (`simulate_scene.py`): `sample_blends/character.blend` (rigged mean body, walk
 action), the shirt imported with `tailor.import_pattern` at 3 cm (at 4 cm a sleeve catches in
-the arm while the seams close), an isotropic collider proxy of the body (voxel remesh at 2 cm
+the arm while the seams close) and lifted 4 cm, an isotropic collider proxy of the body (voxel remesh at 2 cm
 bound by Surface Deform: 12.7k triangles instead of the body's 47.5k, lighter for 2-core CI).
 The garment assembles at the rest pose without gravity (60 frames of preroll), moves into the
 walk's first pose over 40 frames, then 8 frames of the walk are recorded.
@@ -97,10 +97,13 @@ def test_bake_walks_plays_back_and_keeps_quality(addon, tmp_path):
     all_frames = np.concatenate(list(caches.values()), axis=1)
     assert np.isfinite(all_frames).all()
     # It hangs on the shoulders at every frame (metrics of a garment that fell off are trivially
-    # good) and moves with the walk.
+    # good): its top at the shoulders, its hem no more than 15 cm below where it was placed
+    # (sewn and hanging from the shoulders it settles about 10 cm lower), and it moves with the walk.
+    placed_hem = min(np.concatenate([np.array([o.matrix_world @ v.co for v in o.data.vertices])[:, 2]
+                                     for o in pieces]))
     for k in range(n):
         z = world_frame(pieces, caches, k)[:, 2]
-        assert z.max() > 1.35 and z.min() > 0.85, (k, z.min(), z.max())
+        assert z.max() > 1.35 and z.min() > placed_hem - 0.15, (k, z.min(), z.max(), placed_hem)
     assert np.abs(all_frames[-1] - all_frames[0]).max() > 0.01
     # Played back by Mesh Cache modifiers: the evaluated pieces are the cached frames, and the
     # pieces' own meshes are untouched.
@@ -116,8 +119,9 @@ def test_bake_walks_plays_back_and_keeps_quality(addon, tmp_path):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "module physics, not the add-on: placed on the sample body, the shirt's seams close through the arms "
-    "(20-40 particles up to 40 mm inside the body, seam gaps 3-10 mm, strain up to 1.9); see docs/benchmarks.md"))
+    "assembly at rest, before the body moves: the sleeve seams near the armpits stay 3-9 mm open with "
+    "1-5 sleeve particles 5-14 mm inside the upper arms from the end of the seam closing on (recorded frames: "
+    "gap 0.8-5.8 mm, penetration 1.5-8.7 mm); make diagnose-bake, docs/benchmarks.md 'Add-on: Simulate'"))
 def test_baked_frames_meet_the_quality_thresholds(addon, tmp_path):
     """The issue's thresholds at every recorded frame: seam gap under 1 mm, penetration (into the
     collider and into the character's own mesh) under the thickness, no NaN."""

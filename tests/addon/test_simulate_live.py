@@ -31,6 +31,9 @@ def test_live_follows_the_timeline_applies_edits_and_restores(addon, live_scene)
     scene, pieces = live_scene["scene"], live_scene["pieces"]
     live = addon.simulate.live
     before = {o.name: mesh_co(o) for o in pieces}
+    # Pins fixed in place (the default, riding on the character, is tested in
+    # test_simulate_pins.py).
+    scene.tailor_simulate.pin_mode = "FIXED"
     assert bpy.ops.tailor.live_step(count=3, advance=True) == {"FINISHED"}
     session = live.SESSIONS[scene.name]
     assert scene.tailor_simulate.live_running and scene.frame_current == 4

@@ -22,10 +22,8 @@ Run by Blender itself (Debian's 3.4.1 or newer), under a virtual X server:
      (File > Import > Sewing Pattern, `tailor.import_pattern`: pieces, placements, stitches as
      seams) lifted onto the shoulders as the add-on's bake tests do (tests/addon/
      simulate_scene.py), with the sample's fabric and colour; `Body` marked as collider (Mark
-     Collider). Not a sample garment as saved: their pins (waistband, shoulder lines) are made
-     for the demo, which attaches them to the body once the seams have met; the add-on pins
-     painted particles in place from the first frame, which holds those seams open (baked
-     in Blender 4.5, skirt.blend keeps a 35 cm seam gap). The sidebar's Tailor tab is opened
+     Collider), without the sample's painted pins (they ride on the body once the seams
+     meet; a short bake here does without them). The sidebar's Tailor tab is opened
      with a click on it.
   3. Simulate: **Bake** (`tailor.bake`, invoked: the modal operator with the solve on its
      worker thread) over a few frames of the walk; the sidebar scrolled down to the Bake panel

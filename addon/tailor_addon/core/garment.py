@@ -137,11 +137,17 @@ class SceneGarment:
         return len(self.positions)
 
     def seam_pairs(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Seam `k`'s sewn points as global (a_vertices, a_weights, b_vertices, b_weights)."""
+        """Seam `k`'s sewn points as global (a_vertices, a_weights, b_vertices, b_weights).
+
+        A dart's tip, a vertex sewn to itself, is left out: the pair has nothing to do and the
+        solver refuses it (the module's `Garment.build_simulation` leaves it out too)."""
         s, r = self.seams[k], self.resolved[k]
         av = np.asarray(r["pair_a_vertices"], np.int64) + int(self.offsets[s.a.piece])
         bv = np.asarray(r["pair_b_vertices"], np.int64) + int(self.offsets[s.b.piece])
-        return av, np.asarray(r["pair_a_weights"], np.float32), bv, np.asarray(r["pair_b_weights"], np.float32)
+        aw, bw = np.asarray(r["pair_a_weights"], np.float32), np.asarray(r["pair_b_weights"], np.float32)
+        single = lambda v, w: (w[:, 1] == 0) | (v[:, 0] == v[:, 1])  # noqa: E731  (one vertex, not an edge point)
+        keep = ~(single(av, aw) & single(bv, bw) & (av[:, 0] == bv[:, 0]))
+        return av[keep], aw[keep], bv[keep], bw[keep]
 
     def build_simulation(
         self,

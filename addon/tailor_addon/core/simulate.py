@@ -11,6 +11,12 @@ mass scale (relative to the simulation's base fabric, the first piece's); painte
 (`core/paint.py`) override friction, mass, pins and collision levels per particle. Bending
 is one value per simulation in the module: the first piece's (a warning says so when the
 pieces differ).
+
+Pins (`SimSettings.pin_mode`): `ATTACH` (default) makes the painted pins ride on the first
+collider (the character): `tailor.bake.Bake` attaches them, softly at `pin_stiffness` N/m times
+the painted weight, once the seams have met (attached from the first frame they would hold the
+seams open), and from then on they follow the body. `FIXED` holds them where they were placed,
+in world space, from the first frame: weight 1 hard pins, lower weights soft attachments.
 """
 
 from __future__ import annotations
@@ -37,6 +43,9 @@ PRESETS = {
 #: grouped by weight rounded to this many steps.
 HARD_PIN = 0.999
 ATTACHMENT_STEPS = 20
+
+#: How painted pins hold (`SimSettings.pin_mode`): riding on the collider, or fixed in place.
+PIN_MODES = ("ATTACH", "FIXED")
 
 
 def preset_values(name: str) -> dict:
@@ -89,6 +98,8 @@ class SimSettings:
     seam_bend_stiffness: float = 1e-5
     friction_static: float = 0.5
     friction_kinetic: float = 0.3
+    pin_mode: str = "ATTACH"  # ATTACH: ride on the collider once the seams meet | FIXED: held in place
+    pin_stiffness: float = 100.0  # N/m per ATTACH pin at weight 1: holds a waistband against its ~1e-3 N weight
 
     def to_tailor(self) -> tailor.Settings:
         if self.substeps < 1:
@@ -139,6 +150,8 @@ class Built:
     colliders: list[bake.Collider]
     warnings: list[str] = field(default_factory=list)
     adapter: str = ""
+    #: Pins to attach to the collider once the seams have met (`pin_mode` ATTACH), for `Bake`.
+    pins: bake.ColliderPins | None = None
 
 
 def _per_particle(garment: SceneGarment, maps: list[dict], key: str, default: float) -> tuple[np.ndarray, bool]:
@@ -173,6 +186,10 @@ def build(
             raise AddonError(f"collider '{c.name}' has no faces", "Pick a mesh with faces as collider")
     if not settings.thickness > 0:
         raise tailor.InvalidParameterError(f"thickness is {settings.thickness}: must be positive")
+    if settings.pin_mode not in PIN_MODES:
+        raise tailor.InvalidParameterError(f"pin mode is '{settings.pin_mode}': must be one of {', '.join(PIN_MODES)}")
+    if settings.pin_mode == "ATTACH" and not (settings.pin_stiffness > 0 and np.isfinite(settings.pin_stiffness)):
+        raise tailor.InvalidParameterError(f"pin stiffness is {settings.pin_stiffness}: must be positive")
     warnings = list(garment.warnings)
     base = fabrics[0]
     if len({f.bend for f in fabrics}) > 1:
@@ -187,7 +204,12 @@ def build(
     sim.thickness = float(settings.thickness)
     apply_fabric(sim, garment, fabrics, maps)
     apply_friction(sim, garment, maps, settings)
-    apply_pins(sim, garment, maps)
+    attach = settings.pin_mode == "ATTACH" and bool(colliders)
+    if not attach:
+        hard, soft = pin_sets(garment, maps)
+        if settings.pin_mode == "ATTACH" and (len(hard) or soft):
+            warnings.append("pins are held in place: there is no collider for them to ride on")
+        apply_pins(sim, garment, maps)
     levels, painted = _per_particle(garment, maps, "collision_level", 0)
     if painted:
         sim.set_particle_levels(levels.astype(np.int32))
@@ -203,7 +225,8 @@ def build(
         if c.levels is not None:
             sim.set_collider_levels(cid, np.asarray(c.levels, np.int32))
         out.append(bake.Collider(c.name, cid, len(c.positions)))
-    return Built(sim, out, warnings, adapter_of(sim))
+    pins = bake.ColliderPins(out[0].id, attach_groups(garment, maps, settings.pin_stiffness)) if attach else None
+    return Built(sim, out, warnings, adapter_of(sim), pins)
 
 
 def apply_fabric(sim, garment: SceneGarment, fabrics: list[PieceFabric], maps: list[dict]) -> None:
@@ -234,8 +257,17 @@ def pin_sets(garment: SceneGarment, maps: list[dict]) -> tuple[np.ndarray, list[
     return hard, [(v, p) for v, p in soft if len(p)]
 
 
+def attach_groups(garment: SceneGarment, maps: list[dict], stiffness: float) -> list[tuple[np.ndarray, float]]:
+    """`pin_mode` ATTACH: [(particles, N/m)] from the pin map, `stiffness` times the painted
+    weight (weight 1 pins and each rounded soft weight a group)."""
+    hard, soft = pin_sets(garment, maps)
+    groups = [(hard, float(stiffness))] if len(hard) else []
+    return groups + [(p, float(stiffness) * w) for w, p in soft]
+
+
 def apply_pins(sim, garment: SceneGarment, maps: list[dict]) -> None:
-    """Pins at the particles' current positions (where the artist placed the garment)."""
+    """`pin_mode` FIXED: pins at the particles' current positions (where the artist placed the
+    garment), held there in world space from the first frame."""
     hard, soft = pin_sets(garment, maps)
     pos = garment.positions
     if len(hard):

@@ -36,6 +36,8 @@ def sim_settings(scene) -> SimSettings:
         seam_bend_stiffness=s.seam_bend_stiffness,
         friction_static=s.friction_static,
         friction_kinetic=s.friction_kinetic,
+        pin_mode=s.pin_mode,
+        pin_stiffness=s.pin_stiffness,
     )
 
 

@@ -93,7 +93,7 @@ class BakeJob:
         gravity = (0.0, 0.0, 0.0) if s.assemble_without_gravity else None
         self.fingerprint += f"/{gravity}"
         self.run = bake.Bake(built.sim, built.colliders, self.settings.fps, self.start, s.preroll, assembly, transition,
-                             gravity)
+                             gravity, pins=built.pins)
         # Piece transforms at the start: caches are in each piece's local space.
         self.inverse = [np.linalg.inv(np.array(o.matrix_world, np.float64)) for o in self.objects]
 

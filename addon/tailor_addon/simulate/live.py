@@ -48,7 +48,8 @@ class LiveSession:
             co = np.empty(len(o.data.vertices) * 3, np.float32)
             o.data.vertices.foreach_get("co", co)
             self.original.append(co)
-        self.solver = LiveSolver(bake.Bake(built.sim, built.colliders, self.settings.fps, scene.frame_current))
+        self.solver = LiveSolver(bake.Bake(built.sim, built.colliders, self.settings.fps, scene.frame_current,
+                                           pins=built.pins))
         self.ticks = 0
         self.frames_applied = 0
         self.last: LiveResult | None = None
@@ -101,7 +102,12 @@ class LiveSession:
         if not (_same_maps(maps, self.maps, "friction_static") and _same_maps(maps, self.maps, "friction_kinetic")):
             g, m, st = self.garment, maps, self.settings
             edits.append(lambda sim: core_sim.apply_friction(sim, g, m, st))
-        if not _same_maps(maps, self.maps, "pin"):
+        pins = self.solver.run.pins
+        if not _same_maps(maps, self.maps, "pin") and pins is not None:
+            # Riding on the collider (pin mode ATTACH): the new groups replace the old ones.
+            groups = core_sim.attach_groups(self.garment, maps, self.settings.pin_stiffness)
+            edits.append(lambda sim, groups=groups: pins.replace(sim, groups))
+        elif not _same_maps(maps, self.maps, "pin"):
             hard, _soft = core_sim.pin_sets(self.garment, maps)
             old, pos = self.hard_pins, self.garment.positions
 

@@ -107,6 +107,20 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     seam_bend_stiffness: FloatProperty(name="Seam Bending", min=0.0, default=1e-5, precision=6)
     friction_static: FloatProperty(name="Static Friction", description="Where not painted", min=0.0, default=0.5)
     friction_kinetic: FloatProperty(name="Kinetic Friction", description="Where not painted", min=0.0, default=0.3)
+    pin_mode: EnumProperty(
+        name="Pins",
+        items=(
+            ("ATTACH", "Ride on Character", "Painted pins are attached to the (first) collider once the seams have "
+             "met, and follow the body as it moves"),
+            ("FIXED", "Fixed in Place", "Painted pins stay where they were placed, in world space, from the first "
+             "frame (they can hold seams open)"),
+        ),
+        default="ATTACH",
+    )
+    pin_stiffness: FloatProperty(
+        name="Pin Stiffness", description="N/m per pinned vertex riding on the character, times its painted weight",
+        min=0.0, soft_min=1.0, default=100.0,
+    )
     # Bake
     use_scene_range: BoolProperty(name="Scene Range", description="Bake the scene's frame range", default=True)
     frame_start: IntProperty(name="Start", default=1)

@@ -93,6 +93,11 @@ class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.prop(s, "friction_static")
         row.prop(s, "friction_kinetic")
+        row = layout.row(align=True)
+        row.prop(s, "pin_mode", text="Pins")
+        sub = row.row(align=True)
+        sub.active = s.pin_mode == "ATTACH"
+        sub.prop(s, "pin_stiffness", text="N/m")
         obj = context.active_object
         if scene_data.is_piece(obj):
             box = layout.box()

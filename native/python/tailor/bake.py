@@ -12,6 +12,11 @@ resumed bake bit-for-bit the same as an uninterrupted one (the solver is determi
 that object is gone (a new session), ``Bake.replay`` rebuilds the state by re-solving the
 frames already cached and checks that they come out identical before going on.
 
+Painted pins can ride on the character (``ColliderPins``): they are attached to a collider
+(``Simulation.attach_to_collider``) after the first frame whose seam-closing ramp is no longer
+"closing", not from the start, because pins held from the first frame would hold the seams
+open; from then on each rides on its bound point of the collider as the body moves.
+
 No Blender, no threads here: a driver that wants the loop off its main thread calls ``step``
 from a worker (``Simulation.step`` releases the GIL).
 """
@@ -94,6 +99,39 @@ class Collider:
 
 
 @dataclass
+class ColliderPins:
+    """Pinned particles that ride on mesh collider `collider` once the seams have met: each
+    group of particles is attached with its stiffness (N/m per particle) by `attach`, which
+    `Bake` calls after the first solver frame whose ramp phase is no longer "closing"."""
+
+    collider: int
+    groups: list[tuple[np.ndarray, float]]
+    attached: bool = False
+
+    @property
+    def particles(self) -> np.ndarray:
+        """Every particle of the groups."""
+        if not self.groups:
+            return np.zeros(0, np.int64)
+        return np.concatenate([np.asarray(p, np.int64) for p, _ in self.groups])
+
+    def attach(self, sim: Simulation) -> None:
+        for particles, stiffness in self.groups:
+            if len(particles):
+                sim.attach_to_collider(np.asarray(particles, np.int64), self.collider, float(stiffness))
+        self.attached = True
+
+    def replace(self, sim: Simulation, groups: list[tuple[np.ndarray, float]]) -> None:
+        """New groups (the pin map was repainted): attached at once, where the particles are
+        now, if the old ones were already attached; else when the seams meet."""
+        if self.attached:
+            sim.detach_from_collider()
+        self.groups = groups
+        if self.attached:
+            self.attach(sim)
+
+
+@dataclass
 class Bake:
     """A running bake: `sim` with its mesh `colliders`, one frame per `step`.
 
@@ -101,10 +139,14 @@ class Bake:
     `1/fps` seconds with the colliders at that frame. Before frame `start` is recorded, the
     garment assembles: `preroll` steps with the colliders at `assembly` (a pose the pattern is
     placed for, typically the rest pose; the start frame's positions when None), then
-    `transition` steps moving them linearly from `assembly` to the start frame's positions.
+    `transition` steps moving them from `assembly` to the start frame's positions along a
+    smoothstep (3t² - 2t³: the body starts and ends the move at rest, no jolt at either end for
+    the cloth's contacts, as `tailor.commands.on_character` blends).
     With `assembly_gravity` set (typically zero) the preroll runs under that gravity: a garment
     whose seams are still open has nothing to hang on and would fall off the body while they
-    close. `frames[i]` and `records[i]` are frame `start + i`."""
+    close. `pins` (optional) are attached to their collider after the first solver frame,
+    preroll included, whose seams have met. `frames[i]` and `records[i]` are frame
+    `start + i`."""
 
     sim: Simulation
     colliders: list[Collider]
@@ -118,6 +160,7 @@ class Bake:
     records: list[dict] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     prerolled: bool = False
+    pins: ColliderPins | None = None
 
     @property
     def next_frame(self) -> int:
@@ -147,7 +190,7 @@ class Bake:
             self._set_colliders(collider_positions)
         else:
             self._set_colliders(collider_positions)
-            self.sim.step(1.0 / self.fps)
+            self._solve(1.0 / self.fps)
         ms = (time.perf_counter() - t0) * 1e3
         pos = self.sim.positions
         rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider)
@@ -155,20 +198,34 @@ class Bake:
         self.records.append(rec)
         return rec
 
+    def _solve(self, dt: float, frames: int = 1) -> None:
+        """`frames` solver frames; pins waiting for the seams are attached after the first
+        frame whose ramp is no longer closing (so frame by frame until then)."""
+        if self.pins is None or self.pins.attached:
+            self.sim.step(dt, frames)
+            return
+        for k in range(frames):
+            st = self.sim.step(dt)
+            if st["ramp_phase"] != "closing":
+                self.pins.attach(self.sim)
+                if frames - k - 1 > 0:
+                    self.sim.step(dt, frames - k - 1)
+                return
+
     def _assemble(self, start_positions: Sequence[np.ndarray]) -> None:
         dt = 1.0 / self.fps
         pose = self.assembly if self.assembly is not None else start_positions
         if self.preroll > 0:
             self._set_colliders(pose)
             if self.assembly_gravity is None:
-                self.sim.step(dt, self.preroll)
+                self._solve(dt, self.preroll)
             else:
                 settings = self.sim.settings
                 gravity = settings.gravity
                 settings.gravity = tuple(self.assembly_gravity)
                 self.sim.settings = settings
                 try:
-                    self.sim.step(dt, self.preroll)
+                    self._solve(dt, self.preroll)
                 finally:
                     settings.gravity = gravity
                     self.sim.settings = settings
@@ -177,8 +234,9 @@ class Bake:
             b = [np.asarray(p, np.float32) for p in start_positions]
             for k in range(1, self.transition + 1):
                 t = k / self.transition
+                t = t * t * (3.0 - 2.0 * t)
                 self._set_colliders([(1.0 - t) * pa + t * pb for pa, pb in zip(a, b)])
-                self.sim.step(dt)
+                self._solve(dt)
         self.prerolled = True
 
     def run(

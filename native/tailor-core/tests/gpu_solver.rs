@@ -572,3 +572,19 @@ fn collision_levels_filter_pairs_on_the_gpu() {
     println!("GPU levels (1, 2): mean heights {lo:.4} / {hi:.4} m");
     assert!(lo < 0.01 && (hi - lo).abs() < 0.003, "levels 1 and 2 should let the layers through: {lo} / {hi}");
 }
+
+/// Attachments riding on a mesh collider move their targets every substep, which the GPU
+/// does not do yet: the solver falls back to the CPU and says why.
+#[test]
+fn collider_attachments_fall_back_to_the_cpu_with_a_warning() {
+    let (bv, bt) = box_mesh(0.1, Vec3::ZERO);
+    let (p, r, t) = cloth_grid(0.2, 4, 0.0, 0.0, 0.12);
+    let mut sim = sim_of(p, r, t, SolverSettings { tolerance: 0.0, ..Default::default() });
+    let id = sim.add_mesh_collider(&bv, &bt, MeshColliderOptions::default()).unwrap();
+    sim.attach_to_collider(&[0, 1, 2], id, 100.0).unwrap();
+    let Some(mut g) = gpu(sim, "collider_attachments") else { return };
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Cpu);
+    let w = st.warning.unwrap();
+    assert!(w.contains("attachments to a mesh collider"), "{w}");
+}

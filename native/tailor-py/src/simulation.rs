@@ -494,6 +494,50 @@ impl Simulation {
         self.inner.edit(|sim| sim.set_collider_friction(id, static_friction, kinetic_friction)).map_err(to_py)
     }
 
+    /// Attaches `particles` softly (`stiffness` N/m each) to mesh collider `collider`, so they
+    /// ride on it: each is bound where it is now to the nearest collider triangle (barycentric
+    /// point plus its offset in the triangle's frame) and from then on pulled, every substep,
+    /// towards that point as the collider moves and deforms. Attaching an attached particle
+    /// rebinds it. The GPU does not run these yet (the CPU steps, with `backend_warning`).
+    /// Raises InvalidMeshError for an unknown collider or a particle out of range,
+    /// InvalidParameterError for a stiffness not positive and finite; nothing changes then.
+    fn attach_to_collider(
+        &mut self,
+        py: Python<'_>,
+        particles: &Bound<'_, PyAny>,
+        collider: i64,
+        stiffness: f32,
+    ) -> PyResult<()> {
+        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+        let p = indices(particles, "attach_to_collider particles", self.inner.simulation().num_particles())?;
+        let inner = &mut self.inner;
+        py.detach(|| inner.edit(|sim| sim.attach_to_collider(&p, id, stiffness))).map_err(to_py)
+    }
+
+    /// Removes the collider attachments of `particles` (every one with None); particles not
+    /// attached are ignored.
+    #[pyo3(signature = (particles=None))]
+    fn detach_from_collider(&mut self, particles: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let n = self.inner.simulation().num_particles();
+        let p = particles.map(|p| indices(p, "detach_from_collider particles", n)).transpose()?;
+        self.inner.edit(|sim| sim.detach_from_collider(p.as_deref())).map_err(to_py)
+    }
+
+    /// The particles attached to a mesh collider, a new uint32 array (in attachment order).
+    #[getter]
+    fn collider_attached<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        let p: Vec<u32> = self.inner.simulation().collider_attachments().iter().map(|a| a.particle).collect();
+        PyArray1::from_vec(py, p).into_any()
+    }
+
+    /// The targets of the collider attachments at the last substep run, a new (k, 3) float32
+    /// array in the order of `collider_attached`.
+    #[getter]
+    fn collider_attachment_targets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let t: Vec<[f32; 3]> = self.inner.simulation().collider_attachments().iter().map(|a| a.target).collect();
+        colliders::rows_to_numpy(py, &t)
+    }
+
     /// Collision level per cloth particle: a particle of level a and a primitive of level b
     /// collide unless a != 0, b != 0 and a != b.
     fn set_particle_levels(&mut self, levels: &Bound<'_, PyAny>) -> PyResult<()> {

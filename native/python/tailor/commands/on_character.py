@@ -81,61 +81,27 @@ class Dressed:
     info: dict
     body: np.ndarray | None = None  # the collider's current vertices
     pinned: np.ndarray | None = None  # particles painted with the pin map
-    attach: "BodyAttachment | None" = None
+    attached: bool = False
 
     def move_body(self, body: np.ndarray) -> None:
-        """The collider (and the attachment targets riding on it) to new body vertices."""
+        """The collider to new body vertices (the attached pins ride on it in the solver)."""
         self.body = body
         self.sim.set_collider_positions(self.collider, body)
-        if self.attach is not None:
-            self.sim.set_attachment_targets(self.attach.targets(body))
 
     def step(self, dt: float) -> dict:
         """One frame. The solver holds gravity while the seams close (`ramp_closing_gravity`,
-        0 by default); once they have met, the pinned particles are attached where the
-        assembled garment put them (attached from the start, they would hold the seams open)."""
+        0 by default); once they have met, the pinned particles are attached to the body where
+        the assembled garment put them (`Simulation.attach_to_collider`: each rides on its
+        nearest body triangle from then on; attached from the start, they would hold the seams
+        open)."""
         st = self.sim.step(dt)
-        if self.attach is None and st["ramp_phase"] != "closing" and self.pinned is not None and len(self.pinned):
-            self.attach = BodyAttachment(self.pinned, self.sim.positions[self.pinned], self.body,
-                                         self.triangles_body, offset=2.0 * self.info["thickness_m"])
-            self.sim.add_attachments(self.pinned.astype(np.uint32), self.attach.targets(self.body),
-                                     ATTACH_STIFFNESS)
+        if not self.attached and st["ramp_phase"] != "closing" and self.pinned is not None and len(self.pinned):
+            self.sim.attach_to_collider(self.pinned, self.collider, ATTACH_STIFFNESS)
+            self.attached = True
         return st
 
 
 ATTACH_STIFFNESS = 100.0  # N/m per pinned particle: holds a waistband against its ~1e-3 N weight
-
-
-def vertex_normals(v: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    v = np.asarray(v, np.float64)
-    t = np.asarray(tris, np.int64)
-    fn = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])
-    n = np.zeros_like(v)
-    for k in range(3):
-        np.add.at(n, t[:, k], fn)
-    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
-
-
-class BodyAttachment:
-    """Pinned garment particles riding on the body: each is attached (softly) to the point
-    `offset` metres out along the normal of its nearest body vertex, wherever the body moves
-    (the painted pin map: a waistband, the top of a shoulder line)."""
-
-    def __init__(self, particles: np.ndarray, points: np.ndarray, body: np.ndarray, tris: np.ndarray, offset: float):
-        self.particles, self.tris, self.offset = particles, tris, offset
-        body = np.asarray(body, np.float64)
-        nearest = np.empty(len(points), np.int64)
-        for i in range(0, len(points), 256):
-            chunk = np.asarray(points[i:i + 256], np.float64)
-            d = ((chunk[:, None, :] - body[None, :, :]) ** 2).sum(-1)
-            nearest[i:i + 256] = d.argmin(axis=1)
-        self.vertices = nearest
-        # Only the triangles round the attached vertices matter for their normals.
-        self.local_tris = tris[np.isin(tris, nearest).any(axis=1)]
-
-    def targets(self, body: np.ndarray) -> np.ndarray:
-        n = vertex_normals(body, self.local_tris)[self.vertices]
-        return (np.asarray(body, np.float64)[self.vertices] + self.offset * n).astype(np.float32)
 
 
 def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, substeps: int = 8,
@@ -189,9 +155,8 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
         "thickness_m": thickness,
         "attached": int((pins > 0).sum()),
     }
-    d = Dressed(sim, cid, list(offsets), tris, info, body=np.asarray(body, np.float32), pinned=np.flatnonzero(pins > 0))
-    d.triangles_body = np.asarray(triangles, np.int64)
-    return d
+    return Dressed(sim, cid, list(offsets), tris, info, body=np.asarray(body, np.float32),
+                   pinned=np.flatnonzero(pins > 0))
 
 
 def quality(d: Dressed) -> dict:

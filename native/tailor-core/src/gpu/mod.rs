@@ -46,7 +46,9 @@
 //!
 //! **Not yet on the GPU** (a [`Solver`](crate::solver::Solver) asked for the GPU falls back to
 //! the CPU with a warning): the Jacobi method, the early stop on `tolerance` (it would need a
-//! readback per iteration), and more than [`collide_common::MAX_MESHES`] mesh colliders.
+//! readback per iteration), attachments to a mesh collider (`Simulation::attach_to_collider`:
+//! their targets move every substep), and more than [`collide_common::MAX_MESHES`] mesh
+//! colliders.
 //! Flat bending and seams are linear, so they are fully in the matrix and need no GPU kernel.
 
 pub mod chebyshev;
@@ -475,6 +477,9 @@ impl GpuSolver {
         }
         if view.settings.tolerance > 0.0 {
             return Some("the early stop on `tolerance` (needs a readback per iteration)".into());
+        }
+        if !view.model.collider_attachments.is_empty() {
+            return Some("attachments to a mesh collider (their targets move every substep)".into());
         }
         // One dimension of dispatches covers 65535 workgroups of 64.
         let m = view.model;

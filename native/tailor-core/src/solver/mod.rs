@@ -32,7 +32,7 @@ pub use backend::{Backend, Solver, SolverOptions, AUTO_GPU_MIN_PARTICLES};
 pub use collide::{
     ColliderId, CollisionSkips, CollisionStats, MeshColliderOptions, QualityMetrics, SelfCollisionSettings,
 };
-pub use constraints::{Attachment, Seam, SeamPoint};
+pub use constraints::{Attachment, ColliderAttachment, Seam, SeamPoint};
 pub use contacts::{ImplicitCollider, Shape};
 pub use damping::RampPhase;
 pub use measures::{ErrorMeasures, IterationRecord, MethodsMeasurement, ReferenceOptions, StepMeasurement};

@@ -11,7 +11,7 @@ use super::colouring::{colour_graph, Colouring};
 use super::constraints::bending::{hinge_weights, HingeTriangle};
 use super::constraints::seam::BoundaryEdges;
 use super::constraints::triangle::strain_coefficients;
-use super::constraints::{Attachment, Seam, StencilSet, TriangleSet};
+use super::constraints::{Attachment, ColliderAttachment, Seam, StencilSet, TriangleSet};
 use super::settings::Fabric;
 use super::soa::{vec_bytes, Vec3Soa};
 use super::system::{SparseSym, SparseSym32};
@@ -128,6 +128,8 @@ pub struct Model {
     pub seam_pairs: StencilSet,
     pub seam_hinges: StencilSet,
     pub attachments: Vec<Attachment>,
+    /// Attachments to points riding on mesh colliders (targets set every substep).
+    pub collider_attachments: Vec<ColliderAttachment>,
     pub pinned: Vec<bool>,
     // Derived, rebuilt when `dirty`.
     pub dirty: bool,
@@ -193,6 +195,7 @@ impl Model {
             seam_pairs: StencilSet::default(),
             seam_hinges: StencilSet::default(),
             attachments: Vec::new(),
+            collider_attachments: Vec::new(),
             pinned: vec![false; n],
             dirty: true,
             rebuilds: 0,
@@ -226,6 +229,7 @@ impl Model {
             + self.seam_pairs.memory_bytes()
             + self.seam_hinges.memory_bytes()
             + vec_bytes(&self.attachments)
+            + vec_bytes(&self.collider_attachments)
             + vec_bytes(&self.pinned)
             + self.matrix32.memory_bytes()
             + self.colouring.memory_bytes()
@@ -354,7 +358,10 @@ impl Model {
             self.n(),
             &self.triangles,
             &[&self.bending, &self.seam_pairs, &self.seam_hinges],
-            &self.attachments,
+            self.attachments
+                .iter()
+                .map(|a| (a.particle, a.weight))
+                .chain(self.collider_attachments.iter().map(|a| (a.particle, a.weight))),
         )
     }
 

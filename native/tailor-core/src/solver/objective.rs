@@ -43,6 +43,9 @@ impl Simulation {
         for a in &m.attachments {
             e += 0.5 * a.weight as f64 * (x.get(a.particle as usize) - Vec3::from(a.target)).length_squared() as f64;
         }
+        for a in &m.collider_attachments {
+            e += 0.5 * a.weight as f64 * (x.get(a.particle as usize) - Vec3::from(a.target)).length_squared() as f64;
+        }
         e
     }
 

@@ -3,7 +3,8 @@
 //! Each substep of length `h` runs these stages in order (timed separately):
 //!
 //! 1. **prediction**: `y = x + h·v + h²·g`, pinned particles at their targets, the initial
-//!    guess `x = y`, and the fixed right-hand side `M/h²·y + b_const`;
+//!    guess `x = y`, and the fixed right-hand side `M/h²·y + b_const` plus the attachments
+//!    riding on mesh colliders (targets of this substep, `collide/attach.rs`);
 //! 2. per iteration, **local**: contacts against colliders and constraint projections;
 //!    **global**: one Gauss-Seidel sweep over the colouring (or Jacobi), then Chebyshev
 //!    extrapolation; optional early stop on the relative residual;
@@ -518,6 +519,7 @@ impl Simulation {
             let r = y * (self.model.mass[i] * inv_h2) + self.model.b_const.get(i);
             self.rhs_fixed.set(i, r);
         }
+        self.apply_collider_attachments();
     }
 
     fn global_system(&self) -> GlobalSystem<'_> {

@@ -7,7 +7,7 @@
 //! rows for the real-time sweep (the reference solver assembles its own f64 copy). Its
 //! off-diagonal pattern is the graph the colouring separates.
 
-use super::constraints::{Attachment, StencilSet, TriangleSet};
+use super::constraints::{StencilSet, TriangleSet};
 use super::soa::vec_bytes;
 
 /// Symmetric sparse matrix: diagonal plus off-diagonal entries by row (both triangles stored).
@@ -49,8 +49,14 @@ impl SparseSym {
         self.offsets[i] as usize..self.offsets[i + 1] as usize
     }
 
-    /// Assembles `L` from the constraints.
-    pub fn assemble(n: usize, tris: &TriangleSet, stencils: &[&StencilSet], attachments: &[Attachment]) -> Self {
+    /// Assembles `L` from the constraints; `attachments` gives each soft attachment's
+    /// (particle, weight), fixed or riding on a collider.
+    pub fn assemble(
+        n: usize,
+        tris: &TriangleSet,
+        stencils: &[&StencilSet],
+        attachments: impl IntoIterator<Item = (u32, f32)>,
+    ) -> Self {
         let mut trip: Vec<(u32, u32, f64)> = Vec::new();
         let mut diag = vec![0.0f64; n];
         for t in 0..tris.len() {
@@ -84,8 +90,8 @@ impl SparseSym {
                 }
             }
         }
-        for att in attachments {
-            diag[att.particle as usize] += att.weight as f64;
+        for (particle, weight) in attachments {
+            diag[particle as usize] += weight as f64;
         }
         trip.sort_unstable_by_key(|&(i, j, _)| ((i as u64) << 32) | j as u64);
         let mut offsets = vec![0u32; n + 1];

@@ -14,11 +14,15 @@
 //! 4. at the end of the substep, particles still behind a mesh collider are put on their
 //!    target and Coulomb friction acts on the velocity relative to the touched triangle.
 //!
+//! Particles can also be attached to a mesh collider and ride on it ([`attach`]): their
+//! targets are recomputed in the prediction from the collider positions of the substep.
+//!
 //! The rule that switches collisions off by level is in [`levels`]. The skips the scene
 //! decides (no hash without mesh colliders, no self pass when off, hash reuse for a still
 //! collider, culling of triangles far from the cloth) are switchable in Rust only, through
 //! [`CollisionSkips`], so benchmarks and tests can measure and compare them.
 
+mod attach;
 pub mod levels;
 pub(crate) mod mesh_collider;
 pub(crate) mod self_collide;

@@ -18,7 +18,7 @@ pub mod seam;
 pub mod stencil;
 pub mod triangle;
 
-pub use attachment::Attachment;
+pub use attachment::{Attachment, ColliderAttachment};
 pub use seam::{Seam, SeamPoint};
 pub use stencil::StencilSet;
 pub use triangle::TriangleSet;

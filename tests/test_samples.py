@@ -89,22 +89,25 @@ def test_a_few_frames_bake_with_the_metrics_holding(sample):
     assert m["seam_gap"] < gap0 - 0.8 * settings.ramp_closing_speed * 6 / 30.0, (gap0, m)
 
 
-# Seam gap (m) each garment file settles within once its seams have met at rest, and whether its
-# penetration must stay within the thickness. Measured (sample_blends/README.md, frame 60):
-# tshirt 0.44 mm, skirt 0.38 mm, trousers 1.28 mm (one inseam pair flickering 0.85-1.72 mm),
-# layered 5.5 mm and nothing inside (6.3 mm 5 frames after the seams meet; the hoody's underarm
-# corners, whose side seams close through the arms, are caught on the arms and stretched, and
-# the gap flickers up to 9.8 mm over frames 45-60): those two are regression bounds on known
-# shortfalls, not the issue's targets (1 mm). Before the solver kept corrections in front of
-# the body, the layered gap was 3.3 mm with 13 particles up to 37 mm inside at the armpits.
-SETTLED = {"tshirt": (1e-3, True), "skirt": (1e-3, True), "trousers": (2.5e-3, True), "layered": (10e-3, True)}
+# Seam gap (m) of each garment file once its seams have met at rest, over frames 6-11 after they
+# met: (median, worst frame). Measured 2026-11-22 on the 2-core sandbox (this test prints them):
+# tshirt median 0.72 mm but single-frame spikes to 5.7 mm at the armholes (a sleeve/torso pair
+# opens for one frame and closes the next, also at frame 60 in sample_blends/README.md's runs);
+# skirt 0.52 / 0.63 mm; trousers 2.07 / 3.29 mm (the left inseam pair near the crotch); layered
+# 2.8 / 5.1 mm (the hoody's underarm corners, whose side seams close through the arms, caught on
+# the arms and stretched; flickering up to 9.8 mm over frames 45-60). The issue's target is
+# 1 mm at every frame: the skirt meets it, the tshirt's median does, the rest of these bounds
+# are regression bounds on known shortfalls. Nothing may be deeper in the body than the
+# thickness at any of these frames.
+SETTLED = {"tshirt": (1e-3, 8e-3), "skirt": (1e-3, 1e-3), "trousers": (2.5e-3, 5e-3), "layered": (6e-3, 12e-3)}
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_the_garment_file_assembles_on_the_character_at_rest(name):
     """The garment file as `check_garments.py` runs it (its own fabric, levels, pins and
     self-collision, the body of character.glb at rest): the seams meet (the ramp releases)
-    within 40 frames, and 5 frames later the widest seam gap is within its bound."""
+    within 40 frames; over frames 6-11 after that the seam gap's median and worst frame are
+    within their bounds and nothing is inside the body."""
     from tailor.commands import on_character
 
     character = on_character.Character(SAMPLES / "character.glb")
@@ -117,11 +120,14 @@ def test_the_garment_file_assembles_on_the_character_at_rest(name):
     assert released is not None, f"{name}: the seams have not met after 40 frames"
     for _ in range(5):
         d.step(1.0 / 30.0)
-    q = on_character.quality(d)
-    gap, no_penetration = SETTLED[name]
-    print(f"{name}: seams met at frame {released}; 5 frames later seam gap {q['seam_gap_m'] * 1e3:.2f} mm, "
-          f"{q['penetration_count']} penetrations ({q['penetration_max_m'] * 1e3:.1f} mm), strain {q['strain_max']:.2f}")
-    assert not q["nan"]
-    assert q["seam_gap_m"] < gap, (name, released, q)
-    if no_penetration:
+    gaps = []
+    for _ in range(6):
+        d.step(1.0 / 30.0)
+        q = on_character.quality(d)
+        assert not q["nan"]
         assert q["penetration_max_m"] <= d.info["thickness_m"], (name, q)
+        gaps.append(q["seam_gap_m"])
+    median_bound, worst_bound = SETTLED[name]
+    print(f"{name}: seams met at frame {released}; seam gap over the next frames 6-11 "
+          f"{[round(g * 1e3, 2) for g in gaps]} mm, strain {q['strain_max']:.2f}")
+    assert float(np.median(gaps)) < median_bound and max(gaps) < worst_bound, (name, released, gaps)

@@ -145,10 +145,6 @@ def tailor_bake(path: Path, setup: dict, preset: str, name: str) -> dict:
 # ---- Blender's Cloth ----------------------------------------------------------------------------
 
 
-#: Set by --blender-unpin: Blender's Cloth without the painted pins while Tailor keeps them.
-BLENDER_UNPIN = False
-
-
 def unpinned(arrays: dict) -> dict:
     """The garment without pins: Blender's pin group holds a vertex where it is from the first
     frame (it cannot wait for the seams to close and then ride on the body, as Tailor's pins do),
@@ -156,10 +152,10 @@ def unpinned(arrays: dict) -> dict:
     return {**arrays, "pinned": arrays["pinned"][:0], "pin_weights": arrays["pin_weights"][:0]}
 
 
-def blender_live(path: Path, setup: dict, name: str, q: int, warmup: int) -> dict:
+def blender_live(path: Path, setup: dict, name: str, q: int, warmup: int, unpin: bool) -> dict:
     scene = open_scene(path)
     arrays, _ = cloth_scene.garment_arrays(scene, name)
-    if BLENDER_UNPIN:
+    if unpin:
         arrays = unpinned(arrays)
     obj, mod, pairs = cloth_scene.blender_cloth(scene, arrays, setup, q)
     wall, cpu = {}, {}
@@ -175,10 +171,10 @@ def blender_live(path: Path, setup: dict, name: str, q: int, warmup: int) -> dic
             "load": [l0, load()], "vertex_pairs": len(pairs)}
 
 
-def blender_bake(path: Path, setup: dict, name: str, q: int) -> dict:
+def blender_bake(path: Path, setup: dict, name: str, q: int, unpin: bool) -> dict:
     scene = open_scene(path)
     arrays, _ = cloth_scene.garment_arrays(scene, name)
-    if BLENDER_UNPIN:
+    if unpin:
         arrays = unpinned(arrays)
     obj, mod, pairs = cloth_scene.blender_cloth(scene, arrays, setup, q)
     l0 = load()
@@ -260,8 +256,8 @@ def bench_garment(g: str, path: Path, args) -> dict:
         res["fabrics_differ"] = bool(arrays["fabrics_differ"])
         res["self_collision"] = bool(arrays["self_collision"])
     q = args.blender_quality
-    blv = attempt(f"{g} Blender live", blender_live, path, setup, g, q, args.warmup)
-    bbk = attempt(f"{g} Blender bake", blender_bake, path, setup, g, q)
+    blv = attempt(f"{g} Blender live", blender_live, path, setup, g, q, args.warmup, args.blender_unpin)
+    bbk = attempt(f"{g} Blender bake", blender_bake, path, setup, g, q, args.blender_unpin)
     res["blender"] = {"quality_steps": q, "live": blv, "bake": bbk}
     print(f"{g} Blender q{q}: {json.dumps(blv)[:300]} {json.dumps(bbk)[:600]}", flush=True)
     return res
@@ -300,8 +296,6 @@ def main() -> None:
                     "(its pins cannot wait for the seams and then ride on the body); Tailor keeps them")
     ap.add_argument("--out", default=str(ROOT / "out" / "bench-addon" / "garments.json"))
     args = ap.parse_args()
-    global BLENDER_UNPIN
-    BLENDER_UNPIN = args.blender_unpin
     garments = [g for g in args.garments.split(",") if g]
     for g in garments:
         if g not in GARMENTS:

@@ -31,25 +31,42 @@ viewport redrawn) before the next step.
 
 from __future__ import annotations
 
+import argparse
+import json
 import math
+import os
 import sys
+import time
+import traceback
 from pathlib import Path
 
 import bpy
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import driver_kit  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SKIRT = ROOT / "native/tailor-core/tests/data/svg/skirt_two_panels.svg"
 PAUSE = 0.15  # seconds for the loop to handle queued events and redraw
 
 
-ARGS = driver_kit.parse_args("result.json", lambda p: p.add_argument("--pattern", default=str(SKIRT)))
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
+    p = argparse.ArgumentParser()
+    p.add_argument("--addon-dir", default=str(ROOT / "addon"), help="folder holding tailor_addon/")
+    p.add_argument("--out", default=str(ROOT / "out" / "gui"), help="screenshots and result.json")
+    p.add_argument("--pattern", default=str(SKIRT))
+    return p.parse_args(argv)
+
+
+ARGS = parse_args()
 OUT = Path(ARGS.out)
-REC = driver_kit.Record("GUI", OUT, "result.json")
-RESULT = REC.result
-check = REC.check
+OUT.mkdir(parents=True, exist_ok=True)
+RESULT: dict = {"checks": [], "screenshots": [], "ok": False}
+
+
+def check(what: str, ok: bool, detail="") -> None:
+    RESULT["checks"].append({"what": what, "ok": bool(ok), "detail": str(detail)})
+    print(f"GUI {'PASS' if ok else 'FAIL'}: {what} {detail}", flush=True)
+    if not ok:
+        raise AssertionError(f"{what}: {detail}")
 
 
 # ---- the window --------------------------------------------------------------------------
@@ -409,4 +426,32 @@ def scenario():
 # ---- the timer that steps the scenario -----------------------------------------------------
 
 
-REC.run(scenario(), deadline_s=240.0)
+def finish(code: int) -> None:
+    (OUT / "result.json").write_text(json.dumps(RESULT, indent=2))
+    print(f"GUI RESULT {'OK' if code == 0 else 'FAILED'} ({len(RESULT['checks'])} checks) -> {OUT}", flush=True)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)  # a clean quit would run the exit handlers of a half-driven UI
+
+
+STEPS = scenario()
+DEADLINE = time.monotonic() + 240.0
+
+
+def step():
+    try:
+        if time.monotonic() > DEADLINE:
+            raise TimeoutError("the GUI scenario took more than 240 s")
+        delay = next(STEPS)
+    except StopIteration:
+        finish(0 if RESULT["ok"] else 1)
+        return None
+    except BaseException:
+        RESULT["error"] = traceback.format_exc()
+        print(RESULT["error"], flush=True)
+        finish(1)
+        return None
+    return delay
+
+
+bpy.app.timers.register(step, first_interval=0.5)

@@ -36,7 +36,8 @@ fn entry_cell_matches(e: u32, cell: vec3<i32>) -> bool {
 
 // Mesh collider `c` at p for a particle of collision level `level`: found when p is behind
 // every (level-filtered, non-degenerate) triangle of its cell offset by `thickness`; then the
-// nearest of them gives the target (closest point + normal·thickness) and depth.
+// nearest of them gives the depth and the target (p moved along the normal onto the offset
+// plane; geometry.rs `particle_vs_cell` says why not the closest point).
 fn mesh_contact(c: u32, p: vec3<f32>, level: i32, thickness: f32) -> MeshHit {
     let mi = meshes.m[c];
     var hit = MeshHit(0u, 0.0, 0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
@@ -90,7 +91,8 @@ fn mesh_contact(c: u32, p: vec3<f32>, level: i32, thickness: f32) -> MeshHit {
         let d2 = dot(dq, dq);
         if (hit.found == 0u || d2 < bd2) {
             bd2 = d2;
-            hit = MeshHit(1u, thickness - dot(p - cl.q, n), t, cl.q + n * thickness, n, cl.bary);
+            let depth = thickness - dot(p - cl.q, n);
+            hit = MeshHit(1u, depth, t, p + n * depth, n, cl.bary);
         }
     }
     return hit;

@@ -370,8 +370,7 @@ impl MeshCollider {
             let d2 = q.distance_squared(p);
             if best.as_ref().is_none_or(|(bd2, _)| d2 < *bd2) {
                 let depth = thickness - (p - q).dot(n);
-                best =
-                    Some((d2, Contact { triangle: t, closest: q, bary, normal: n, target: q + n * thickness, depth }));
+                best = Some((d2, Contact { triangle: t, closest: q, bary, normal: n, target: p + n * depth, depth }));
             }
         }
         best.map(|(_, c)| c)

@@ -19,7 +19,7 @@ def test_getting_started_install_open_simulate_in_a_real_window(tmp_path):
     result = run_driver(tmp_path, "start_driver.py", "1280x800", "start_result.json", "start_*", timeout=300)
     names = {c["what"] for c in result["checks"]}
     for what in ("Install... put the add-on into the user's add-ons folder", "add-on enabled",
-                 "Tailor panels registered", "shirt imported: its pieces, its stitches as seams",
+                 "Tailor panels registered", "shirt imported: its pieces, its stitches as seams", "shoulder lines painted as pins",
                  "the sidebar shows the Tailor tab (its Simulate panel drawn)", "every frame baked",
                  "PC2 caches written and played by Mesh Cache modifiers",
                  "the baked garment is finite and moved", "sewn: the seams closed (gap under 1 cm)",

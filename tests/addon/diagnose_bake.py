@@ -97,6 +97,7 @@ def main() -> None:
     ap.add_argument("--lift", type=float, default=None, help="metres (default: simulate_scene.LIFT)")
     ap.add_argument("--edge", type=float, default=0.03)
     ap.add_argument("--body", action="store_true", help="the character's own mesh as collider, no proxy")
+    ap.add_argument("--voxel", type=float, default=0.02, help="the collider proxy's voxel size, metres")
     ap.add_argument("--seam-stiffness", type=float, default=None, help="N/m (default: the panel's)")
     ap.add_argument("--preset", default="FINAL")
     ap.add_argument("--preroll", type=int, default=60)
@@ -121,7 +122,7 @@ def run(args) -> None:
     job_mod = import_module(MODULE + ".simulate.job")
     gather = import_module(MODULE + ".simulate.gather")
     folder = Path(tempfile.mkdtemp(prefix="tailor-diagnose-"))
-    sc = shirt_on_character(folder / "scene.blend", edge=args.edge, proxy_voxel=None if args.body else 0.02,
+    sc = shirt_on_character(folder / "scene.blend", edge=args.edge, proxy_voxel=None if args.body else args.voxel,
                             frames=(1, args.frames), lift=LIFT if args.lift is None else args.lift)
     scene, body = sc["scene"], sc["body"]
     s = scene.tailor_simulate

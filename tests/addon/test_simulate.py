@@ -118,19 +118,20 @@ def test_bake_walks_plays_back_and_keeps_quality(addon, tmp_path):
         np.testing.assert_array_equal(np.array([v.co[:] for v in o.data.vertices], np.float32), rest_co[o.name])
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the sleeve seams near the armpits stay 3.5-7.5 mm open through the assembly at rest (nothing inside the "
-    "collider there since corrections are kept in front of it), and in the walk 1-10 particles go up to 11 mm "
-    "into the moving proxy; make diagnose-bake, docs/benchmarks.md 'Add-on: Simulate'"))
 def test_baked_frames_meet_the_quality_thresholds(addon, tmp_path):
     """The issue's thresholds at every recorded frame: seam gap under 1 mm, penetration (into the
-    collider and into the character's own mesh) under the thickness, no NaN."""
+    collider and into the character's own mesh) under the thickness, no NaN. The shirt as the
+    scene makes it (shoulder lines pinned, the 2 cm proxy, the panel's Final preset) on the
+    walk after the 60-frame assembly and the 40-frame transition; measured 2026-11-22: seam gap
+    0.25-0.51 mm, nothing inside, the same with 1 and 2 threads."""
     import tailor
 
     sc = shirt_on_character(tmp_path / "scene.blend", frames=FRAMES)
     scene, pieces, body = sc["scene"], sc["pieces"], sc["body"]
     assert bpy.ops.tailor.bake() == {"FINISHED"}
     report = json.loads(next(cache_dir(tmp_path).glob("*.report.json")).read_text())
+    print("frames (seam gap, penetration mm):",
+          [(r["frame"], round(r["seam_gap_max_m"] * 1e3, 2), round(r["penetration_max_m"] * 1e3, 2)) for r in report["frames"]])
     thickness = scene.tailor_simulate.thickness
     caches = read_caches(tmp_path)
     gather = addon.simulate.gather

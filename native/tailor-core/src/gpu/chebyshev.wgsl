@@ -41,11 +41,11 @@ fn reduce_omega(@builtin(local_invocation_index) li: u32) {
         state.r0 = max(res, 1e-30);
     }
     state.residual = res / state.r0;
-    // `Chebyshev::omega`: restart when the update norm grew.
+    // `Chebyshev::omega`: restart when the update norm grew; the last iteration is plain.
     let grew = state.started != 0u && delta > state.last_delta;
     state.last_delta = delta;
     let rho = params.rho;
-    if (k < params.delay || rho <= 0.0 || grew) {
+    if (k < params.delay || rho <= 0.0 || grew || k + 1u >= params.iterations) {
         state.started = 0u;
         state.omega = 1.0;
     } else {

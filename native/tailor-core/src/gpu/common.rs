@@ -68,7 +68,8 @@ pub struct Params {
     pub self_mask: u32,
     pub excl_off: u32,
     pub excl_nbr: u32,
-    pub _pad0: u32,
+    /// Iterations per substep: the last one is a plain sweep (`Chebyshev::omega`).
+    pub iterations: u32,
 }
 
 /// Mirror of WGSL `StepState` (storage; 64 bytes, explicit tail padding).

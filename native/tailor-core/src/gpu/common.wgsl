@@ -64,7 +64,7 @@ struct Params {
     self_mask: u32,
     excl_off: u32,
     excl_nbr: u32,
-    _pad0: u32,
+    iterations: u32,
 }
 
 // Per-substep iteration state and the seam-closing ramp, owned by the GPU.

@@ -34,69 +34,130 @@ fn entry_cell_matches(e: u32, cell: vec3<i32>) -> bool {
     return mtable[k] == bitcast<u32>(cell.x) && mtable[k + 1u] == bitcast<u32>(cell.y) && mtable[k + 2u] == bitcast<u32>(cell.z);
 }
 
-// Mesh collider `c` at p for a particle of collision level `level`: found when p is behind
-// every (level-filtered, non-degenerate) triangle of its cell offset by `thickness`; then the
-// nearest of them gives the depth and the target (p moved along the normal onto the offset
-// plane; geometry.rs `particle_vs_cell` says why not the closest point).
+// Mesh collider `c` at p for a particle of collision level `level` (port of
+// `geometry::nearest_feature_contact`): the nearest (level-filtered, non-degenerate) triangle
+// of p's cell decides; found when p is behind its plane offset by `thickness` and behind the
+// offset plane of every candidate sharing its closest point; the target is p moved along the
+// normal onto that plane (geometry.rs `particle_vs_cell` says why).
+fn candidate_triangle(e: u32, cell: vec3<i32>, mi: MeshInfo, level: i32) -> u32 {
+    if (!entry_cell_matches(e, cell)) {
+        return 0xffffffffu;
+    }
+    let t = mtable[meshes.entries_off + 4u * e + 3u];
+    let gt = mi.tri_off + t;
+    if (!levels_collide(level, bitcast<i32>(idx[params.tri_levels + gt]))) {
+        return 0xffffffffu;
+    }
+    if (all(mverts[4u * params.n_mesh_verts + gt].xyz == vec3<f32>(0.0))) {
+        return 0xffffffffu;
+    }
+    return t;
+}
+
+fn no_hit() -> MeshHit {
+    return MeshHit(0u, 0.0, 0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+}
+
 fn mesh_contact(c: u32, p: vec3<f32>, level: i32, thickness: f32) -> MeshHit {
     let mi = meshes.m[c];
-    var hit = MeshHit(0u, 0.0, 0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
     let cell = cell_of(p, mi.cell);
     let b = mi.bucket_off + bucket_of(cell, mi.mask);
     let e0 = mtable[b];
     let e1 = mtable[b + 1u];
     let nt_base = 4u * params.n_mesh_verts;
-    // Pass 1: side tests only; a particle in front of any candidate leaves at once.
-    var behind = false;
+    // Pass 1: side tests only (in front of every offset plane: free), and the candidate whose
+    // plane is nearest, which seeds the search.
+    var any_behind = false;
+    var seed = 0xffffffffu;
+    var seed_side = 0.0;
     for (var e = e0; e < e1; e++) {
-        if (!entry_cell_matches(e, cell)) {
+        let t = candidate_triangle(e, cell, mi, level);
+        if (t == 0xffffffffu) {
             continue;
         }
-        let gt = mi.tri_off + mtable[meshes.entries_off + 4u * e + 3u];
-        if (!levels_collide(level, bitcast<i32>(idx[params.tri_levels + gt]))) {
-            continue;
-        }
-        let n = mverts[nt_base + gt].xyz;
-        if (all(n == vec3<f32>(0.0))) {
-            continue;
-        }
-        if (dot(p - mesh_cur(mesh_vertex_index(gt, 0u)), n) >= thickness) {
-            return hit;
-        }
-        behind = true;
-    }
-    if (!behind) {
-        return hit;
-    }
-    // Pass 2: the nearest candidate (first of equals, candidates in triangle order).
-    var bd2 = 0.0;
-    for (var e = e0; e < e1; e++) {
-        if (!entry_cell_matches(e, cell)) {
-            continue;
-        }
-        let t = mtable[meshes.entries_off + 4u * e + 3u];
         let gt = mi.tri_off + t;
-        if (!levels_collide(level, bitcast<i32>(idx[params.tri_levels + gt]))) {
-            continue;
-        }
-        let n = mverts[nt_base + gt].xyz;
-        if (all(n == vec3<f32>(0.0))) {
-            continue;
-        }
-        let a = mesh_cur(mesh_vertex_index(gt, 0u));
-        let bb = mesh_cur(mesh_vertex_index(gt, 1u));
-        let cc = mesh_cur(mesh_vertex_index(gt, 2u));
-        let cl = closest_point_on_triangle(p, a, bb, cc);
-        let dq = cl.q - p;
-        let d2 = dot(dq, dq);
-        if (hit.found == 0u || d2 < bd2) {
-            bd2 = d2;
-            let depth = thickness - dot(p - cl.q, n);
-            hit = MeshHit(1u, depth, t, p + n * depth, n, cl.bary);
+        let side = dot(p - mesh_cur(mesh_vertex_index(gt, 0u)), mverts[nt_base + gt].xyz);
+        any_behind = any_behind || side < thickness;
+        if (seed == 0xffffffffu || abs(side) < seed_side) {
+            seed = t;
+            seed_side = abs(side);
         }
     }
+    if (seed == 0xffffffffu || !any_behind) {
+        return no_hit();
+    }
+    let g0 = mi.tri_off + seed;
+    var ta = mesh_cur(mesh_vertex_index(g0, 0u));
+    var tb = mesh_cur(mesh_vertex_index(g0, 1u));
+    var tc = mesh_cur(mesh_vertex_index(g0, 2u));
+    let cl0 = closest_point_on_triangle(p, ta, tb, tc);
+    var bd2 = dot(cl0.q - p, cl0.q - p);
+    var hit = MeshHit(1u, 0.0, seed, cl0.q, mverts[nt_base + g0].xyz, cl0.bary);
+    // Pass 2: the nearest candidate, unless the seed's projection lies inside it (then no
+    // candidate is nearer than its plane); those whose plane is farther than the best are
+    // skipped.
+    if (!all(cl0.bary > vec3<f32>(0.0))) {
+        for (var e = e0; e < e1; e++) {
+            let t = candidate_triangle(e, cell, mi, level);
+            if (t == 0xffffffffu || t == seed) {
+                continue;
+            }
+            let gt = mi.tri_off + t;
+            let n = mverts[nt_base + gt].xyz;
+            let a = mesh_cur(mesh_vertex_index(gt, 0u));
+            let side = dot(p - a, n);
+            if (side * side >= bd2) {
+                continue;
+            }
+            let bb = mesh_cur(mesh_vertex_index(gt, 1u));
+            let cc = mesh_cur(mesh_vertex_index(gt, 2u));
+            let cl = closest_point_on_triangle(p, a, bb, cc);
+            let d2 = dot(cl.q - p, cl.q - p);
+            if (d2 < bd2) {
+                bd2 = d2;
+                hit = MeshHit(1u, 0.0, t, cl.q, n, cl.bary);
+                ta = a;
+                tb = bb;
+                tc = cc;
+            }
+        }
+    }
+    let q = hit.target_pos;
+    let depth = thickness - dot(p - q, hit.normal);
+    if (depth <= 0.0) {
+        return no_hit();
+    }
+    // Pass 3, only for a closest point on (or within a few SHARED_FEATURE of) an edge: a
+    // candidate in front of its offset plane sharing it (a convex ridge) frees the particle.
+    let twice_area = length(cross(tb - ta, tc - ta));
+    let edges = vec3<f32>(length(tc - tb), length(ta - tc), length(tb - ta));
+    if (any(hit.bary * twice_area <= 2.0 * SHARED_FEATURE * edges)) {
+        for (var e = e0; e < e1; e++) {
+            let t = candidate_triangle(e, cell, mi, level);
+            if (t == 0xffffffffu) {
+                continue;
+            }
+            let gt = mi.tri_off + t;
+            let a = mesh_cur(mesh_vertex_index(gt, 0u));
+            let side = dot(p - a, mverts[nt_base + gt].xyz);
+            if (side < thickness || side > sqrt(bd2) + SHARED_FEATURE) {
+                continue;
+            }
+            let cl = closest_point_on_triangle(p, a, mesh_cur(mesh_vertex_index(gt, 1u)), mesh_cur(mesh_vertex_index(gt, 2u)));
+            let dq = cl.q - q;
+            if (dot(dq, dq) <= SHARED_FEATURE * SHARED_FEATURE) {
+                return no_hit();
+            }
+        }
+    }
+    hit.depth = depth;
+    hit.target_pos = p + hit.normal * depth;
     return hit;
 }
+
+// Two candidates whose closest points are closer than this (m) share a feature
+// (`geometry::SHARED_FEATURE`).
+const SHARED_FEATURE: f32 = 1e-5;
 
 // The deepest mesh contact of a particle over all mesh colliders (`find_mesh_contacts`);
 // `collider` receives the collider's index.

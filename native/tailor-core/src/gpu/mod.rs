@@ -708,6 +708,7 @@ impl GpuSolver {
         p.release_time = s.ramp.release_time;
         p.has_seams = (!sp.is_empty()) as u32;
         p.substeps = s.substeps;
+        p.iterations = s.iterations;
 
         let need = Capacities {
             n,

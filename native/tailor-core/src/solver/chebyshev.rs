@@ -14,6 +14,15 @@
 //! while under-estimating it only loses some speed, hence `safety < 1`. If an accelerated
 //! update norm more than doubles, the ω sequence restarts from the current iterate. A fixed ρ
 //! in the settings overrides the measurement.
+//!
+//! **The last iteration is a plain sweep** (ω = 1): the substep ends on the Gauss-Seidel
+//! update of the contacts detected for it rather than on an extrapolation past it. Where a
+//! particle gains or loses a contact between iterations the extrapolated iterate swings to the
+//! other side of the sweep (a sewn pair at an armhole alternated 0.2 / 3.5 mm from one
+//! iteration to the next) and the frame froze whichever state the last iteration gave: the
+//! add-on's shirt test scene had one frame at 1.15 mm with the extrapolated last iteration and
+//! 0.25-0.51 mm at every frame with a plain one; the samples at rest kept their gaps (T-shirt
+//! 0.66 / 0.74 mm median / worst over frames 6-11, skirt 0.50 / 0.53, trousers 0.39 / 0.48).
 
 use rayon::prelude::*;
 
@@ -43,12 +52,13 @@ impl Chebyshev {
         s.rho.unwrap_or_else(|| (self.rho_gs.unwrap_or(0.0) * s.safety).min(s.max_rho))
     }
 
-    /// Returns the ω for iteration `k` whose sweep moved particles by `delta` (1 = none).
-    pub fn omega(&mut self, k: u32, delta: f32, s: &ChebyshevSettings) -> f32 {
+    /// Returns the ω for iteration `k` of `iterations` whose sweep moved particles by `delta`
+    /// (1 = none).
+    pub fn omega(&mut self, k: u32, iterations: u32, delta: f32, s: &ChebyshevSettings) -> f32 {
         let grew = self.started && delta > self.last_delta;
         self.last_delta = delta;
         let rho = self.rho(s);
-        if k < s.delay || rho <= 0.0 || grew {
+        if k < s.delay || rho <= 0.0 || grew || k + 1 >= iterations {
             self.started = false;
             self.omega = 1.0;
             return 1.0;

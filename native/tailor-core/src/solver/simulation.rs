@@ -583,7 +583,8 @@ impl Simulation {
                     let n = self.global_system().gauss_seidel(&self.x, &mut work, &mut parts);
                     (self.sweep_work, self.sweep_parts) = (work, parts);
                     if method == Method::Chebyshev {
-                        let omega = self.cheb.omega(k, n.update2.sqrt() as f32, &self.settings.chebyshev);
+                        let omega =
+                            self.cheb.omega(k, max_iterations, n.update2.sqrt() as f32, &self.settings.chebyshev);
                         out.rho = self.cheb.rho(&self.settings.chebyshev);
                         // xᵏ⁺¹ = ω·(x̂ − xᵏ⁻¹) + xᵏ⁻¹ (just x̂ when ω = 1) overwrites xᵏ⁻¹; the swap
                         // then makes it the iterate and keeps xᵏ as the next "previous".

@@ -19,7 +19,7 @@ use glam::Vec3;
 
 use super::levels::{levels_collide, triangle_levels_from_vertices};
 use crate::collision::collider_hash::{keeps_cell, InsertionRule};
-use crate::collision::geometry::{closest_point_on_triangle, triangle_normal, Contact};
+use crate::collision::geometry::{closest_point_on_triangle, nearest_feature_contact, triangle_normal, Contact};
 use crate::collision::hash::{cell_of, segment_cells, Cell, SpatialHash};
 use crate::error::{Result, TailorError};
 use crate::mesh::check_finite3;
@@ -327,12 +327,10 @@ impl MeshCollider {
         PrepareOutcome { rebuilt: true, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() }
     }
 
-    /// The paper's particle-vs-cell test at `p` against the triangles of its cell whose level
+    /// The particle-vs-cell test at `p` against the triangles of its cell whose level
     /// collides with `level`; the same result as
-    /// [`particle_vs_cell`](crate::collision::geometry::particle_vs_cell)
-    /// in two passes: first the side tests alone, with the normals
-    /// cached at the build, so the particles in front of some triangle (nearly all) leave
-    /// before any closest-point computation.
+    /// [`particle_vs_cell`](crate::collision::geometry::particle_vs_cell), with the normals
+    /// cached at the build.
     #[inline]
     pub fn contact(&self, p: Vec3, level: i32, thickness: f32) -> Option<Contact> {
         if self.kept.is_empty() {
@@ -343,37 +341,13 @@ impl MeshCollider {
                 .query_cell(self.hash.cell_of(p.into()))
                 .filter(|&k| levels_collide(level, self.tri_level[self.kept[k as usize] as usize]))
         };
-        let corner = |k: u32| Vec3::from(self.cur[self.tris[self.kept[k as usize] as usize][0] as usize]);
-        let mut any = false;
-        for k in cands() {
-            let n = self.normals[k as usize];
-            if n == Vec3::ZERO {
-                continue;
-            }
-            if (p - corner(k)).dot(n) >= thickness {
-                return None;
-            }
-            any = true;
-        }
-        if !any {
-            return None;
-        }
-        let mut best: Option<(f32, Contact)> = None;
-        for k in cands() {
-            let n = self.normals[k as usize];
-            if n == Vec3::ZERO {
-                continue;
-            }
-            let t = self.kept[k as usize];
-            let [a, b, c] = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
-            let (q, bary) = closest_point_on_triangle(p, a, b, c);
-            let d2 = q.distance_squared(p);
-            if best.as_ref().is_none_or(|(bd2, _)| d2 < *bd2) {
-                let depth = thickness - (p - q).dot(n);
-                best = Some((d2, Contact { triangle: t, closest: q, bary, normal: n, target: p + n * depth, depth }));
-            }
-        }
-        best.map(|(_, c)| c)
+        nearest_feature_contact(p, thickness, || {
+            cands().filter_map(|k| {
+                let n = self.normals[k as usize];
+                let t = self.kept[k as usize];
+                (n != Vec3::ZERO).then(|| (t, self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize])), n))
+            })
+        })
     }
 
     /// Where the motion `from → to` of a particle over a substep first passes through the

@@ -159,6 +159,16 @@ def run(args) -> None:
         print(text, flush=True)
 
     dt = 1.0 / bake.fps
+
+    def step() -> dict:
+        """One solver frame; painted pins riding on the character are attached once the seams
+        have met, as `tailor.bake.Bake` does."""
+        st = sim.step(dt)
+        pins = bake.pins
+        if pins is not None and not pins.attached and st["ramp_phase"] != "closing":
+            pins.attach(sim)
+        return st
+
     t0 = time.perf_counter()
     rest = bake.assembly
     bake._set_colliders(rest)
@@ -169,7 +179,7 @@ def run(args) -> None:
         sim.settings = settings
     line("start", 0, body_rest, None, True)
     for k in range(1, args.preroll + 1):
-        line("pre", k, body_rest, sim.step(dt), k == args.preroll)
+        line("pre", k, body_rest, step(), k == args.preroll)
     settings.gravity = gravity
     sim.settings = settings
     start = job.colliders_at(job.start)
@@ -177,10 +187,10 @@ def run(args) -> None:
         t = k / args.transition
         bake._set_colliders([(1.0 - t) * a + t * b for a, b in zip(rest, start)])
         body_v = ((1.0 - t) * body_rest + t * body_start).astype(np.float32)
-        line("trans", k, body_v, sim.step(dt), k == args.transition)
+        line("trans", k, body_v, step(), k == args.transition)
     for f in range(job.start + 1, job.start + args.frames):
         bake._set_colliders(job.colliders_at(f))
-        st = sim.step(dt)
+        st = step()
         line("walk", f, gather.colliders_at(scene, [body], f)[0], st, True)
     print(f"{time.perf_counter() - t0:.1f} s", flush=True)
 

@@ -129,13 +129,14 @@ pub const SHARED_FEATURE: f32 = 1e-5;
 /// satisfies it).
 ///
 /// Two departures from the paper, both measured on the samples. (1) The paper's particle
-/// collides only when behind *every* triangle of its cell. In a crease (the armpit, the
-/// crotch, a coarse proxy's filled-in folds) a particle inside the arm is still in front of
-/// the chest's triangles in the same cell, so it went undetected until it had sunk several
-/// millimetres, and was then caught at once: within a solve a sewn pair flipped open and
-/// closed from one iteration to the next (2.5-4.5 mm deep on first detection, thousands of
-/// times over 40 frames of the add-on's shirt on its proxy), and the end of the substep froze
-/// whichever state the last iteration gave. (2) The paper targets the closest point itself
+/// collides only when behind *every* triangle of its cell. In a crease (the armpit) a
+/// particle inside the arm is still in front of the chest's triangles in the same cell, so it
+/// went undetected until it had sunk several millimetres, and was then caught at once: within
+/// a solve a sewn pair flipped open and closed from one iteration to the next (2.5-4.5 mm deep
+/// on first detection, thousands of times over 40 frames of the add-on's shirt on its 2 cm
+/// proxy), and the end of the substep froze whichever state the last iteration gave. Cloth
+/// sunk into the armpits also held an unpinned shirt up on the sample character; with the
+/// creases colliding it slides down the sloped arms (tests/test_simulate.py). (2) The paper targets the closest point itself
 /// pushed out by the thickness. Inside a face the two agree; where the closest point lies on
 /// an edge or corner it also moves the particle sideways, up to the thickness and more, onto
 /// the ridge: at the end of a substep that tore sewn pairs apart (trousers' inseam 3-9 mm for

@@ -85,6 +85,10 @@ def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
     first = riding.sim.positions[:3].copy()
     riding.sim.step(1 / 30)
     assert len(riding.sim.collider_attached) == 0 and np.abs(riding.sim.positions[:3] - first).max() > 0
+    # They wait while the seams close and are attached after the first frame that is not.
+    assert not riding.pins.after_frame(riding.sim, "closing") and len(riding.sim.collider_attached) == 0
+    assert riding.pins.after_frame(riding.sim, "releasing") and len(riding.sim.collider_attached) == 5
+    assert riding.pins.after_frame(riding.sim, "done") and len(riding.sim.collider_attached) == 5  # once
     # Without a collider there is nothing to ride on: held in place, with a warning.
     alone = core_sim.build(g, core_sim.SimSettings(), fabrics, maps, [])
     assert alone.pins is None and any("no collider" in w for w in alone.warnings)

@@ -164,9 +164,8 @@ def run(args) -> None:
         """One solver frame; painted pins riding on the character are attached once the seams
         have met, as `tailor.bake.Bake` does."""
         st = sim.step(dt)
-        pins = bake.pins
-        if pins is not None and not pins.attached and st["ramp_phase"] != "closing":
-            pins.attach(sim)
+        if bake.pins is not None:
+            bake.pins.after_frame(sim, st["ramp_phase"])
         return st
 
     t0 = time.perf_counter()

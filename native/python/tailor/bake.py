@@ -121,6 +121,13 @@ class ColliderPins:
                 sim.attach_to_collider(np.asarray(particles, np.int64), self.collider, float(stiffness))
         self.attached = True
 
+    def after_frame(self, sim: Simulation, ramp_phase: str) -> bool:
+        """Attaches the pins after the first frame whose ramp phase is no longer "closing";
+        returns whether they are attached."""
+        if not self.attached and ramp_phase != "closing":
+            self.attach(sim)
+        return self.attached
+
     def replace(self, sim: Simulation, groups: list[tuple[np.ndarray, float]]) -> None:
         """New groups (the pin map was repainted): attached at once, where the particles are
         now, if the old ones were already attached; else when the seams meet."""
@@ -205,9 +212,7 @@ class Bake:
             self.sim.step(dt, frames)
             return
         for k in range(frames):
-            st = self.sim.step(dt)
-            if st["ramp_phase"] != "closing":
-                self.pins.attach(self.sim)
+            if self.pins.after_frame(self.sim, self.sim.step(dt)["ramp_phase"]):
                 if frames - k - 1 > 0:
                     self.sim.step(dt, frames - k - 1)
                 return

@@ -15,7 +15,8 @@
 //! update norm more than doubles, the ω sequence restarts from the current iterate. A fixed ρ
 //! in the settings overrides the measurement.
 //!
-//! **The last iteration is a plain sweep** (ω = 1): the substep ends on the Gauss-Seidel
+//! **The last iteration of the budget is a plain sweep** (ω = 1; a solve that a tolerance ends
+//! earlier ends on an extrapolated iterate, as before): the substep ends on the Gauss-Seidel
 //! update of the contacts detected for it rather than on an extrapolation past it. Where a
 //! particle gains or loses a contact between iterations the extrapolated iterate swings to the
 //! other side of the sweep (a sewn pair at an armhole alternated 0.2 / 3.5 mm from one

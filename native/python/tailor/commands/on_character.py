@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tailor.bake import ColliderPins
 from tailor.commands import garment_extras
 
 GRAVITY_Y = (0.0, -9.81, 0.0)
@@ -80,8 +81,7 @@ class Dressed:
     triangles: np.ndarray
     info: dict
     body: np.ndarray | None = None  # the collider's current vertices
-    pinned: np.ndarray | None = None  # particles painted with the pin map
-    attached: bool = False
+    pins: ColliderPins | None = None  # the particles painted with the pin map
 
     def move_body(self, body: np.ndarray) -> None:
         """The collider to new body vertices (the attached pins ride on it in the solver)."""
@@ -93,11 +93,10 @@ class Dressed:
         0 by default); once they have met, the pinned particles are attached to the body where
         the assembled garment put them (`Simulation.attach_to_collider`: each rides on its
         nearest body triangle from then on; attached from the start, they would hold the seams
-        open)."""
+        open). The rule is `tailor.bake.ColliderPins.after_frame`, the add-on's bakes' too."""
         st = self.sim.step(dt)
-        if not self.attached and st["ramp_phase"] != "closing" and self.pinned is not None and len(self.pinned):
-            self.sim.attach_to_collider(self.pinned, self.collider, ATTACH_STIFFNESS)
-            self.attached = True
+        if self.pins is not None:
+            self.pins.after_frame(self.sim, st["ramp_phase"])
         return st
 
 
@@ -156,7 +155,7 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
         "attached": int((pins > 0).sum()),
     }
     return Dressed(sim, cid, list(offsets), tris, info, body=np.asarray(body, np.float32),
-                   pinned=np.flatnonzero(pins > 0))
+                   pins=ColliderPins(cid, [(np.flatnonzero(pins > 0), ATTACH_STIFFNESS)]))
 
 
 def quality(d: Dressed) -> dict:

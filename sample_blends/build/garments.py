@@ -15,10 +15,11 @@ and registered, as Blender does when it is enabled):
    (its "Y Up" option: the turn the body got, (x, y, z) -> (x, -z, y)); an outer layer is moved
    out from the body first;
 4. each layer is lifted by the smallest of LIFTS that leaves fewest torso seams closing through
-   the body; sleeves and trouser legs are bent (`tailor.bend`) around the limb between their
-   front and back panels by the angle among BEND_ANGLES with no vertex inside the body and at
-   most MAX_BEND_STRAIN stretch, fewest seams closing through the limb, then the smallest gap
-   (measured, printed; 0 keeps GarmentCode's flat placement);
+   the body (the layered outfit's two layers are lifted and their torso panels wrapped round
+   the body's sides together: `wrap_torso`); sleeves and trouser legs are bent (`tailor.bend`)
+   around the limb between their front and back panels by the angle among BEND_ANGLES with no
+   vertex inside the body and at most MAX_BEND_STRAIN stretch, fewest seams closing through the
+   limb, then the smallest gap (measured, printed; 0 keeps GarmentCode's flat placement);
 5. collision levels are painted (`tailor.collision_level_set`): on the trousers, the left leg 3
    and the right leg 4, and on the body the arms 1 and 2 and the legs 3 and 4, from the skin
    weights; so trousers never catch on the arms and each trouser leg ignores the other leg;
@@ -66,6 +67,12 @@ BEND_ANGLES = (0.0, 15.0, 30.0, 45.0, 60.0, 90.0)
 MAX_BEND_STRAIN = 0.10  # a bend that stretches the piece more than this snaps back at the start
 LIFTS = (0.0, 0.02, 0.04, 0.06, 0.08, 0.10)  # metres a layer may be raised so its seams close outside
 LIMB_PAIRS = (("sleeve_f", "sleeve_b"), ("pant_f", "pant_b"))
+# The layered outfit's torso panels are wrapped round the body's sides (`Layer.wrap`, see
+# `wrap_torso`): lifts and wrap angles tried together, and the most a wrap may stretch a panel.
+WRAP_LIFTS = tuple(k / 100.0 for k in range(11))
+WRAP_ANGLES = (0.0, 15.0, 30.0, 40.0, 45.0, 60.0)
+MAX_WRAP_STRAIN = 0.25
+TORSO_PAIRS = (("left_ftorso", "left_btorso"), ("right_ftorso", "right_btorso"))
 
 # Fabrics (density kg/m^2, stretch and shear N/m, bend): light knit, woven cotton, light woven
 # (skirt) and a heavier fleece for the hoody. Stiffer than real cloth in stretch: the solver's
@@ -87,6 +94,9 @@ class Layer:
     # piece name prefix -> band (metres from the top of the piece's rest shape; inf: all of it)
     # painted with pin weight 1: attached to the body (a waistband, a shoulder line)
     pins: dict[str, float] = field(default_factory=dict)
+    # wrap the front/back torso panels round the body's sides (`wrap_torso`) instead of lifting
+    # the flat layer only (`lift_clear_of_body`)
+    wrap: bool = False
 
 
 @dataclass
@@ -112,8 +122,8 @@ SAMPLES_SPEC = [
     ),
     Sample(
         "layered",
-        [Layer("shirt_mean", JERSEY, (0.92, 0.92, 0.88), pins=SHOULDERS),
-         Layer("hoody_mean", FLEECE, (0.20, 0.45, 0.30), push_out=0.03, pins=SHOULDERS)],
+        [Layer("shirt_mean", JERSEY, (0.92, 0.92, 0.88), pins=SHOULDERS, wrap=True),
+         Layer("hoody_mean", FLEECE, (0.20, 0.45, 0.30), push_out=0.03, pins=SHOULDERS, wrap=True)],
         self_collision=True,
     ),
 ]
@@ -297,6 +307,66 @@ def lift_clear_of_body(objs: list, body_v: np.ndarray, body_t: np.ndarray) -> di
     bpy.context.view_layer.update()
     log(f"  lift: {', '.join(f'{a * 100:g} cm: {c} seam points close inside' for a, c in tried)} -> {best[0] * 100:g} cm")
     return {"lift_m": best[0], "tried": [{"lift_m": a, "inside": c} for a, c in tried]}
+
+
+def wrap_torso(objs: list, body_v: np.ndarray, body_t: np.ndarray) -> dict:
+    """Lifts a layer and wraps its torso panels round the body's sides, the lift (WRAP_LIFTS)
+    and the angle (WRAP_ANGLES) searched together. A flat front panel is wider than the chest:
+    its side edge stands in front of the upper arm, and the side seam's top pairs close through
+    the arm. The sleeveless hoody's did (2 of 15 pairs per side seam, 5 cm from the arm's inner
+    surface at 1.24 m): its panels closed over the arms, edges stretched 4x, and on the left
+    the shirt ended up outside the hoody. Each panel is bent about a vertical axis through its
+    centre-front (or centre-back) edge, the bend growing towards the side edge, which comes
+    round towards the partner panel, so the side seam closes in the gap under the arm. The
+    inner layer is wrapped too: a wrapped outer layer next to a flat inner one starts with its
+    sides inside the inner layer's wider flat panels (measured: the hoody then assembled under
+    the shirt's sides). The pick: no vertex inside the body and at most MAX_WRAP_STRAIN start
+    stretch, then the fewest seam points of the layer closing inside the body, the smallest
+    angle, the smallest lift."""
+    by_name = {o.tailor_piece.piece_name: o for o in objs}
+    pairs = [(by_name[f], by_name[b]) for f, b in TORSO_PAIRS if f in by_name and b in by_name]
+    setups = [(wrap_setup(f, b), wrap_setup(b, f)) for f, b in pairs]
+    tried, at = [], 0.0
+    for lift in WRAP_LIFTS:
+        for o in objs:
+            o.location.z += lift - at
+        at = lift
+        bpy.context.view_layer.update()
+        for angle in WRAP_ANGLES:
+            for pair, setup in zip(pairs, setups):
+                for o, st in zip(pair, setup):
+                    apply_bend(o, st, angle)
+            pen = tailor.penetration(np.concatenate([piece_world(o) for o in objs]), body_v, body_t)
+            strain = max(piece_strain(o) for pair in pairs for o in pair)
+            tried.append((lift, angle, seams_closing_inside(objs, body_v, body_t, both=False), int(pen["count"]), strain))
+    ok = [r for r in tried if r[3] == 0 and r[4] <= MAX_WRAP_STRAIN] or tried[:1]
+    best = min(ok, key=lambda r: (r[2], r[1], r[0]))
+    for o in objs:
+        o.location.z += best[0] - at
+    bpy.context.view_layer.update()
+    for pair, setup in zip(pairs, setups):
+        for o, st in zip(pair, setup):
+            apply_bend(o, st, best[1])
+    log(f"  wrap: {len(tried)} (lift, angle) tried; {sum(r[2] == 0 for r in ok)} with no seam point closing "
+        f"inside -> lift {best[0] * 100:g} cm, {best[1]:g} deg ({best[2]} closing inside, strain {best[4]:.2f})")
+    return {"lift_m": best[0], "wrap_deg": best[1],
+            "tried": [{"lift_m": a, "angle_deg": b, "inside": c, "vertices_inside": d, "strain": e}
+                      for a, b, c, d, e in tried]}
+
+
+def wrap_setup(obj, partner) -> dict:
+    """The wrap of torso panel `obj` (see `wrap_torso`) in its local frame: the symmetry line
+    and the axis run upright through the vertex nearest the body's midline (x = 0: the
+    character is centred), so the bend is 0 there and grows towards the side edge; `depth`
+    (1 mm towards `partner`) gives `apply_bend` the sense."""
+    from tailor_addon import scene_data
+
+    rest = scene_data.rest_of(obj).astype(np.float64)
+    q = rest[np.argmin(np.abs(piece_world(obj)[:, 0]))]
+    up = obj.matrix_world.to_3x3().inverted() @ Vector((0.0, 0.0, 1.0))
+    e = np.array([up.x, up.y]) / math.hypot(up.x, up.y)
+    towards = (obj.matrix_world.inverted() @ partner.matrix_world.translation).z
+    return {"c": q, "e": e, "depth": math.copysign(1e-3, towards)}
 
 
 def bend_limbs(objs: list, body_v: np.ndarray, body_t: np.ndarray) -> list[dict]:
@@ -572,7 +642,7 @@ def build(sample: Sample, edge: float) -> dict:
     for layer in sample.layers:
         objs = import_layer(layer, edge)
         to_character_frame(objs, layer.push_out, centre)
-        lift = lift_clear_of_body(objs, body_v, body_t)
+        lift = wrap_torso(objs, body_v, body_t) if layer.wrap else lift_clear_of_body(objs, body_v, body_t)
         bends = bend_limbs(objs, body_v, body_t)
         paint_levels(objs, layer)
         paint_pins(objs, layer)

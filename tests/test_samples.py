@@ -95,11 +95,13 @@ def test_a_few_frames_bake_with_the_metrics_holding(sample):
 # 0.39 / 0.48 — all three within the 1 mm at every frame since mesh contacts are decided
 # by the nearest triangle and target its offset plane, and a substep's last iteration is a plain
 # sweep (before: tshirt spikes to 5.7 mm at the armholes, trousers 2.07 / 3.29 mm at the inseam
-# by the crotch). layered 2.1 / 7.7 mm is a regression bound on a known shortfall (the shirt's
-# underarm junction pushed open by its own self-collision spheres, 10 mm against a 4 mm
-# thickness, and the hoody's underarm corners caught on the arms while its side seams close).
-# Nothing may be deeper in the body than the thickness at any of these frames.
-SETTLED = {"tshirt": (1e-3, 1e-3), "skirt": (1e-3, 1e-3), "trousers": (1e-3, 1e-3), "layered": (6e-3, 12e-3)}
+# by the crotch). layered 1.43 / 1.50 mm (its torso panels wrapped round the body's sides,
+# sample_blends/build/garments.py wrap_torso; flat, the hoody's side seams closed through the
+# upper arms: 2.10 / 7.66) is a regression bound on a known shortfall: the hood, worn up,
+# gathers the back neckline into a bunch at the nape, where four pieces meet 1.2-1.5 mm apart
+# (sample_blends/README.md). Nothing may be deeper in the body than the thickness at any of
+# these frames.
+SETTLED = {"tshirt": (1e-3, 1e-3), "skirt": (1e-3, 1e-3), "trousers": (1e-3, 1e-3), "layered": (2e-3, 3e-3)}
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -36,6 +36,7 @@ import scenes  # noqa: E402
 COMPILED = re.compile(r"took ([0-9.]+) ms\s+\(compiled\)")
 PREVIEW = dict(substeps=4, iterations=10)
 FINAL = dict(substeps=8, iterations=15)  # `tailor simulate`'s defaults
+PEERS = {"tailor", "blender", "newton"}
 
 
 def plan(scene: str, peers: set[str], blender_quality: list[int] | None = None) -> list[tuple[str, dict]]:
@@ -270,6 +271,12 @@ def main() -> int:
     if args.replot:
         plot(json.loads(args.replot.read_text())["runs"], args.plot)
         return 0
+    # Tailor's preview run is the bar every other run is judged against: it runs whatever --peers
+    # names (leaving it out used to fail in `summarise` after the other peers' runs).
+    peers = set(args.peers.split(",")) | {"tailor"}
+    unknown = peers - PEERS
+    if unknown:
+        ap.error(f"--peers: unknown {', '.join(sorted(unknown))} (known: {', '.join(sorted(PEERS))})")
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     cache = out / "warp-cache"
@@ -285,7 +292,7 @@ def main() -> int:
             print(f"== {name}: skipped ({why})")
             info["skipped"][name] = why
             continue
-        rs = run_scene(name, out, args.cap, env, set(args.peers.split(",")), args.blender_quality)
+        rs = run_scene(name, out, args.cap, env, peers, args.blender_quality)
         s = summarise(name, rs, float(scenes.THICKNESS))
         records += rs
         summaries.append(s)

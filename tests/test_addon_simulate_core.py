@@ -63,7 +63,7 @@ def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
     built = core_sim.build(g, fixed, fabrics, maps, [core_sim.ColliderData("box", v, t)])
     sim = built.sim
     assert built.pins is None
-    assert "different bending stiffness" in built.warnings[0]
+    assert not built.warnings  # each piece's bending is its own (set per triangle)
     # The second piece's density is twice the first's: its particles weigh twice as much as with
     # one fabric for both.
     same = core_sim.build(g, fixed, [fabrics[0]] * 2, maps, [core_sim.ColliderData("box", v, t)])

@@ -79,6 +79,20 @@ def test_zero_and_negative_mass(square):
         tailor.Simulation(pos, tris, rest, tailor.Fabric(density=0.0))
 
 
+def test_bad_triangle_bending(square):
+    pos, tris, rest = square
+    sim = tailor.Simulation(pos, tris, rest)
+    with pytest.raises(tailor.InvalidParameterError, match=f"3 values for {len(tris)} triangles"):
+        sim.set_triangle_bending([1e-5] * 3)
+    bend = np.full(len(tris), 1e-5, np.float32)
+    bend[7] = -1.0
+    with pytest.raises(tailor.InvalidParameterError, match="triangle 7: bend -1"):
+        sim.set_triangle_bending(bend)
+    bend[7] = np.nan
+    with pytest.raises(tailor.InvalidParameterError, match="triangle 7"):
+        sim.set_triangle_bending(bend)
+
+
 def test_bad_shapes_and_settings(square):
     pos, tris, rest = square
     with pytest.raises(tailor.InvalidParameterError, match=r"\(n, 3\)"):

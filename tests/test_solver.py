@@ -77,6 +77,25 @@ def test_pins_attachments_and_masses(square):
     np.testing.assert_allclose(sim.masses / base, scale, rtol=1e-6)
 
 
+def test_triangle_bending_is_the_fabrics_bending(square):
+    """Bending set per triangle gives the trajectory of a fabric with that bending (the module
+    side of painted or per-piece bending; the Rust test checks it to the bit)."""
+    pos, tris, rest = square
+    held = np.flatnonzero(rest[:, 0] < 0.06)  # the square's two left columns, held flat
+
+    def drop(fabric_bend, per_triangle=None):
+        sim = tailor.Simulation(pos, tris, rest, tailor.Fabric(bend=fabric_bend))
+        if per_triangle is not None:
+            sim.set_triangle_bending(np.full(len(tris), per_triangle, np.float32))
+        sim.pin(held)
+        sim.step(1 / 30, frames=15)
+        return sim.positions
+
+    stiff, painted, soft = drop(1e-2), drop(1e-7, 1e-2), drop(1e-7)
+    np.testing.assert_allclose(painted, stiff, atol=1e-6)
+    assert np.abs(painted - soft).max() > 5e-3  # and the setting is not one the solver ignores
+
+
 def test_unequal_weighted_seam_closes(square):
     pos, tris, rest = square
     # Sew the left column (5 vertices) to edge points of the right column, halfway along each

@@ -192,9 +192,6 @@ def build(
         raise tailor.InvalidParameterError(f"pin stiffness is {settings.pin_stiffness}: must be positive")
     warnings = list(garment.warnings)
     base = fabrics[0]
-    if len({f.bend for f in fabrics}) > 1:
-        warnings.append(f"pieces have different bending stiffness: the module takes one, {base.bend:g} "
-                        f"(piece '{garment.pieces[0].name}')")
     sim = garment.build_simulation(
         tailor.Fabric(density=base.density, stretch=base.stretch, shear=base.shear, bend=base.bend),
         settings.to_tailor(),
@@ -230,11 +227,11 @@ def build(
 
 
 def apply_fabric(sim, garment: SceneGarment, fabrics: list[PieceFabric], maps: list[dict]) -> None:
-    """Per-triangle stretch/shear and per-particle mass scale (density x painted mass)."""
+    """Per-triangle stretch/shear and bending, per-particle mass scale (density x painted mass)."""
     counts = [len(m.triangles) for m in garment.meshes]
-    stretch = np.repeat([f.stretch for f in fabrics], counts).astype(np.float32)
-    shear = np.repeat([f.shear for f in fabrics], counts).astype(np.float32)
-    sim.set_triangle_stiffness(stretch, shear)
+    per_tri = lambda values: np.repeat(values, counts).astype(np.float32)  # noqa: E731
+    sim.set_triangle_stiffness(per_tri([f.stretch for f in fabrics]), per_tri([f.shear for f in fabrics]))
+    sim.set_triangle_bending(per_tri([f.bend for f in fabrics]))
     n = [len(m.rest) for m in garment.meshes]
     density = np.repeat([f.density / fabrics[0].density for f in fabrics], n).astype(np.float32)
     painted, _ = _per_particle(garment, maps, "mass_scale", 1.0)

@@ -235,6 +235,12 @@ impl Simulation {
         self.inner.edit(|sim| sim.set_triangle_stiffness(&stretch, &shear)).map_err(to_py)
     }
 
+    /// Bending stiffness (N·m) per triangle; each interior edge's hinge takes the mean of its two.
+    fn set_triangle_bending(&mut self, bend: &Bound<'_, PyAny>) -> PyResult<()> {
+        let bend = floats(bend, "bend")?;
+        self.inner.edit(|sim| sim.set_triangle_bending(&bend)).map_err(to_py)
+    }
+
     /// Bending rest shape from a pose (n, 3), keeping its creases; None = flat.
     #[pyo3(signature = (pose=None))]
     fn set_bending_rest_pose(&mut self, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {

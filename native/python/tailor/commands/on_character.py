@@ -121,10 +121,10 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
     n, counts = sim.num_particles, [len(m.rest) for m in meshes]
     tri_counts = [len(m.triangles) for m in meshes]
     if any(f != base for f in fabrics):
-        # Per-piece fabric: stiffness per triangle, density as a mass scale per particle.
-        stretch = np.repeat([f.get("stretch", base.get("stretch")) for f in fabrics], tri_counts).astype(np.float32)
-        shear = np.repeat([f.get("shear", base.get("shear")) for f in fabrics], tri_counts).astype(np.float32)
-        sim.set_triangle_stiffness(stretch, shear)
+        # Per-piece fabric: stiffness and bending per triangle, density as a mass scale per particle.
+        per_tri = lambda k: np.repeat([f.get(k, base.get(k)) for f in fabrics], tri_counts).astype(np.float32)  # noqa: E731
+        sim.set_triangle_stiffness(per_tri("stretch"), per_tri("shear"))
+        sim.set_triangle_bending(per_tri("bend"))
         dens = np.repeat([f.get("density", base.get("density")) / base.get("density") for f in fabrics], counts)
         sim.set_mass_scale(dens.astype(np.float32))
     levels = np.zeros(n, np.int32)

@@ -165,14 +165,8 @@ impl Model {
             }
         }
         let mut bending = StencilSet::default();
-        for h in &mesh.topology().hinges {
-            let [e0, e1, o0, o1] = h.vertices;
-            let t0 = HingeTriangle { e0: r(e0), e1: r(e1), o: r(o0) };
-            let t1 = HingeTriangle { e0: r(e0), e1: r(e1), o: r(o1) };
-            if let Some((k, area)) = hinge_weights(&t0, &t1) {
-                let terms = [(e0, k[0] as f32), (e1, k[1] as f32), (o0, k[2] as f32), (o1, k[3] as f32)];
-                bending.push(&terms, (3.0 * fabric.bend as f64 / area) as f32, 0.0);
-            }
+        for (terms, area, _) in hinge_stencils(&mesh) {
+            bending.push(&terms, bending_weight(fabric.bend as f64, area), 0.0);
         }
         // Built by pushing: drop the growth slack (up to half the capacity) kept for the
         // lifetime of the simulation.
@@ -277,6 +271,27 @@ impl Model {
             self.triangles.w_stretch[t] = stretch[t] * area;
             self.triangles.w_shear[t] = shear[t] * area;
         }
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Per-triangle bending stiffness (N·m): the hinge across each interior edge takes the mean
+    /// of its two triangles' values, so a hinge between two fabrics (pieces are separate meshes,
+    /// so only painted values meet inside one) bends as their average.
+    pub fn set_triangle_bending(&mut self, bend: &[f32]) -> Result<()> {
+        let m = self.triangles.len();
+        if bend.len() != m {
+            return Err(TailorError::shape("triangle bending", format!("{} values for {m} triangles", bend.len())));
+        }
+        if let Some((t, k)) = bend.iter().enumerate().find(|(_, k)| !(**k >= 0.0 && k.is_finite())) {
+            return Err(TailorError::shape("triangle bending", format!("triangle {t}: bend {k} is invalid")));
+        }
+        // The same hinges in the same order as `new` built the stencils from.
+        let weights: Vec<f32> = hinge_stencils(&self.mesh)
+            .map(|(_, area, [t0, t1])| bending_weight(0.5 * (bend[t0 as usize] as f64 + bend[t1 as usize] as f64), area))
+            .collect();
+        debug_assert_eq!(weights.len(), self.bending.len());
+        self.bending.weights.copy_from_slice(&weights);
         self.dirty = true;
         Ok(())
     }
@@ -437,4 +452,25 @@ impl Model {
         }
         SlotLayout { curved, curved_base, total, particle_offsets, particle_slots }
     }
+}
+
+/// The bending stencil of each interior edge with a non-degenerate hinge, in topology order:
+/// its four `(vertex, coefficient)` terms, the hinge's rest area and its two triangles.
+fn hinge_stencils(mesh: &ClothMesh) -> impl Iterator<Item = ([(u32, f32); 4], f64, [u32; 2])> + '_ {
+    let rest = mesh.rest();
+    let r = move |v: u32| [rest[v as usize][0] as f64, rest[v as usize][1] as f64];
+    mesh.topology().hinges.iter().filter_map(move |h| {
+        let [e0, e1, o0, o1] = h.vertices;
+        let t0 = HingeTriangle { e0: r(e0), e1: r(e1), o: r(o0) };
+        let t1 = HingeTriangle { e0: r(e0), e1: r(e1), o: r(o1) };
+        hinge_weights(&t0, &t1).map(|(k, area)| {
+            ([(e0, k[0] as f32), (e1, k[1] as f32), (o0, k[2] as f32), (o1, k[3] as f32)], area, h.triangles)
+        })
+    })
+}
+
+/// A hinge's stencil weight for bending stiffness `bend` (N·m) over rest area `area` (the
+/// quadratic bending energy's 3k/A).
+fn bending_weight(bend: f64, area: f64) -> f32 {
+    (3.0 * bend / area) as f32
 }

@@ -228,6 +228,12 @@ impl Simulation {
         self.model.set_triangle_stiffness(stretch, shear)
     }
 
+    /// Per-triangle bending stiffness, N·m (`Model::set_triangle_bending`).
+    pub fn set_triangle_bending(&mut self, bend: &[f32]) -> Result<()> {
+        self.sleep.wake();
+        self.model.set_triangle_bending(bend)
+    }
+
     /// Takes the bending rest shape from a pose (creases are kept), or flat with `None`.
     pub fn set_bending_rest_pose(&mut self, pose: Option<&[[f32; 3]]>) -> Result<()> {
         self.sleep.wake();

@@ -50,6 +50,39 @@ def test_presets_settings_and_backend_passthrough():
         assert "CPU" in core_sim.adapter_of(object())
 
 
+def test_painted_bend_scale_multiplies_each_triangles_bending():
+    """Bend Scale painted at weight 1 (factor 100) all over piece 0 gives the trajectory of piece 0
+    made of a fabric 100x stiffer in bending; painted on some vertices only, each triangle takes
+    the mean of its vertices' factors, so the result lies between the two."""
+    from tailor_addon.core import paint
+
+    g = two_pieces()
+    n0 = int(g.offsets[1])
+    assert paint.values("bend_scale", np.array([0.0, 0.5, 1.0])) == pytest.approx([0.01, 1.0, 100.0])
+    # The stiff fabric's bending is the painted product as the solver gets it (float32).
+    soft = core_sim.PieceFabric(0.2, 600.0, 60.0, 2e-5)
+    stiff = core_sim.PieceFabric(0.2, 600.0, 60.0, float(np.float32(2e-5) * np.float32(100.0)))
+    settings = core_sim.SimSettings(pin_mode="FIXED", gravity=(0.0, 0.0, -9.81))
+    pin = np.zeros(n0, np.float32)
+    pin[:2] = 1.0  # piece 0 held at two corners, so it folds under its weight
+
+    def run(fabrics, scale=None):
+        maps = [{"pin": (pin, pin > 0)}, {}]
+        if scale is not None:
+            maps[0]["bend_scale"] = (scale, np.ones(n0, bool))
+        sim = core_sim.build(g, settings, fabrics, maps, []).sim
+        sim.step(1 / 30, frames=10)
+        return sim.positions
+
+    painted = run([soft, soft], np.full(n0, 100.0, np.float32))
+    np.testing.assert_allclose(painted, run([stiff, soft]), atol=1e-6)
+    plain = run([soft, soft])
+    assert np.abs(painted - plain).max() > 1e-3
+    half = np.where(np.arange(n0) % 2 == 0, 100.0, 1.0).astype(np.float32)
+    mixed = run([soft, soft], half)
+    assert 0 < np.abs(mixed - plain).max() and 0 < np.abs(mixed - painted).max()
+
+
 def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
     g = two_pieces()
     n0 = int(g.offsets[1])

@@ -96,7 +96,7 @@ class LiveSession:
         maps = self.maps
         if self.ticks % MAPS_EVERY == 0:
             maps = [painted_maps(o) for o in self.objects]
-        if fabrics != self.fabrics or not _same_maps(maps, self.maps, "mass_scale"):
+        if fabrics != self.fabrics or not all(_same_maps(maps, self.maps, k) for k in ("mass_scale", "bend_scale")):
             g, f, m = self.garment, fabrics, maps
             edits.append(lambda sim: core_sim.apply_fabric(sim, g, f, m))
         if not (_same_maps(maps, self.maps, "friction_static") and _same_maps(maps, self.maps, "friction_kinetic")):

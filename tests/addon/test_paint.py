@@ -36,14 +36,16 @@ def test_paint_from_edit_mode_selection_and_clear(scene, addon):
     sel = select(obj, np.arange(0, n, 3))
     assert bpy.ops.tailor.paint_set(map="FRICTION_STATIC", value=0.3) == {"FINISHED"}
     assert bpy.ops.tailor.paint_set(map="MASS_SCALE", value=1.0) == {"FINISHED"}
+    assert bpy.ops.tailor.paint_set(map="BEND_SCALE", value=1.0) == {"FINISHED"}
     assert bpy.ops.tailor.collision_level_set(level=2) == {"FINISHED"}
     assert obj.mode == "EDIT"  # the artist stays where they were
     bpy.ops.object.mode_set(mode="OBJECT")
     maps = addon.paint.maps.painted_maps(obj)
-    assert set(maps) == {"friction_static", "mass_scale", "collision_level"}
+    assert set(maps) == {"friction_static", "mass_scale", "bend_scale", "collision_level"}
     values, painted = maps["friction_static"]
     assert np.array_equal(painted, sel) and np.allclose(values[sel], 0.3)
     assert np.allclose(maps["mass_scale"][0][sel], 2.0)
+    assert np.allclose(maps["bend_scale"][0][sel], 100.0)  # weight 1: 100x stiffer
     levels = maps["collision_level"][0]
     assert np.array_equal(levels == 2, sel) and not levels[~sel].any()
     pos, colours = addon.paint.draw.level_points(obj)
@@ -53,6 +55,7 @@ def test_paint_from_edit_mode_selection_and_clear(scene, addon):
     assert addon.paint.maps.painted_maps(obj)["pin"][1].all()
     bpy.ops.tailor.paint_clear(map="FRICTION_STATIC")
     bpy.ops.tailor.paint_clear(map="COLLISION_LEVEL")
+    bpy.ops.tailor.paint_clear(map="BEND_SCALE")
     assert set(addon.paint.maps.painted_maps(obj)) == {"mass_scale", "pin"}
     with pytest.raises(RuntimeError, match="has no collision levels"):
         bpy.ops.tailor.paint_clear(map="COLLISION_LEVEL")

@@ -1,8 +1,8 @@
 """Painted per-particle parameters (paper Sec. 5): what is stored where, and what it means.
 
-Friction, mass scale, bend scale and pin weight are vertex groups (painted with Blender's weight paint,
-weights in 0..1); the collision level is an integer point attribute, on garment pieces and on
-colliders alike. `values(map, weights)` turns weights into the solver's parameter.
+Friction, mass scale, bend scale and pin weight are vertex groups (painted with Blender's
+weight paint, weights in 0..1); the collision level is an integer point attribute, on garment
+pieces and on colliders alike. `values(map, weights)` turns weights into the solver's parameter.
 """
 
 from __future__ import annotations

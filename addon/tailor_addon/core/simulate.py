@@ -230,11 +230,13 @@ def apply_fabric(sim, garment: SceneGarment, fabrics: list[PieceFabric], maps: l
     """Per-triangle stretch/shear and bending (the piece's, times the painted bend scale averaged
     over each triangle's vertices), per-particle mass scale (density x painted mass)."""
     counts = [len(m.triangles) for m in garment.meshes]
-    per_tri = lambda values: np.repeat(values, counts).astype(np.float32)  # noqa: E731
+
+    def per_tri(values: list[float]) -> np.ndarray:
+        return np.repeat(values, counts).astype(np.float32)
+
     sim.set_triangle_stiffness(per_tri([f.stretch for f in fabrics]), per_tri([f.shear for f in fabrics]))
     bend_scale, _ = _per_particle(garment, maps, "bend_scale", 1.0)
-    tris = np.concatenate([np.asarray(m.triangles, np.int64) + int(o) for m, o in zip(garment.meshes, garment.offsets)])
-    sim.set_triangle_bending(per_tri([f.bend for f in fabrics]) * bend_scale[tris].mean(axis=1))
+    sim.set_triangle_bending(per_tri([f.bend for f in fabrics]) * bend_scale[garment.triangles].mean(axis=1))
     n = [len(m.rest) for m in garment.meshes]
     density = np.repeat([f.density / fabrics[0].density for f in fabrics], n).astype(np.float32)
     painted, _ = _per_particle(garment, maps, "mass_scale", 1.0)

@@ -122,7 +122,9 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
     tri_counts = [len(m.triangles) for m in meshes]
     if any(f != base for f in fabrics):
         # Per-piece fabric: stiffness and bending per triangle, density as a mass scale per particle.
-        per_tri = lambda k: np.repeat([f.get(k, base.get(k)) for f in fabrics], tri_counts).astype(np.float32)  # noqa: E731
+        def per_tri(key: str) -> np.ndarray:
+            return np.repeat([f.get(key, base.get(key)) for f in fabrics], tri_counts).astype(np.float32)
+
         sim.set_triangle_stiffness(per_tri("stretch"), per_tri("shear"))
         sim.set_triangle_bending(per_tri("bend"))
         dens = np.repeat([f.get("density", base.get("density")) / base.get("density") for f in fabrics], counts)

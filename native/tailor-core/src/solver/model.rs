@@ -288,7 +288,9 @@ impl Model {
         }
         // The same hinges in the same order as `new` built the stencils from.
         let weights: Vec<f32> = hinge_stencils(&self.mesh)
-            .map(|(_, area, [t0, t1])| bending_weight(0.5 * (bend[t0 as usize] as f64 + bend[t1 as usize] as f64), area))
+            .map(|(_, area, [t0, t1])| {
+                bending_weight(0.5 * (bend[t0 as usize] as f64 + bend[t1 as usize] as f64), area)
+            })
             .collect();
         debug_assert_eq!(weights.len(), self.bending.len());
         self.bending.weights.copy_from_slice(&weights);

@@ -225,8 +225,9 @@ fn bad_stitches_and_pieces_are_errors() {
     let bad = tailor_core::pattern::Stitch {
         a: tailor_core::pattern::StitchSide { piece: 0, edge: 999 },
         b: tailor_core::pattern::StitchSide { piece: 7, edge: 0 },
+        b_clockwise: true,
     };
-    assert!(stitch_seam(0, &bad, &pieces, &[], SeamMode::Equal).is_err());
+    assert!(stitch_seam(0, &bad, &pieces, SeamMode::Equal).is_err());
 }
 
 #[test]
@@ -269,6 +270,85 @@ fn max_strain(sim: &Simulation, input: &SolverInput) -> f64 {
         }
     }
     worst
+}
+
+/// The corners (piece, 2D point) that the seams' ends sew together, as classes: a seam joins
+/// A's start to B's start and A's end to B's end (each side walked its own direction).
+fn sewn_corner_classes(g: &Garment) -> impl Fn(usize, [f64; 2]) -> usize {
+    let mut keys: Vec<(usize, [i64; 2])> = Vec::new();
+    let key = |p: usize, q: [f64; 2]| (p, [(q[0] * 1e6).round() as i64, (q[1] * 1e6).round() as i64]);
+    let id = |k: (usize, [i64; 2]), keys: &mut Vec<(usize, [i64; 2])>| match keys.iter().position(|x| *x == k) {
+        Some(i) => i,
+        None => {
+            keys.push(k);
+            keys.len() - 1
+        }
+    };
+    let mut joins = Vec::new();
+    for s in &g.seams {
+        for (qa, qb) in [(s.a.start, s.b.start), (s.a.end, s.b.end)] {
+            let (i, j) = (id(key(s.a.piece, qa), &mut keys), id(key(s.b.piece, qb), &mut keys));
+            joins.push((i, j));
+        }
+    }
+    let mut root: Vec<usize> = (0..keys.len()).collect();
+    fn find(root: &mut [usize], mut i: usize) -> usize {
+        while root[i] != i {
+            root[i] = root[root[i]];
+            i = root[i];
+        }
+        i
+    }
+    for (i, j) in joins {
+        let (ri, rj) = (find(&mut root, i), find(&mut root, j));
+        root[ri] = rj;
+    }
+    move |p, q| {
+        let k = key(p, q);
+        let i = keys.iter().position(|x| *x == k).expect("a seam end");
+        find(&mut root.clone(), i)
+    }
+}
+
+#[test]
+fn no_seam_gathers_an_edge_into_a_point() {
+    // Sewn one way round, the hoody's hood joins its neckline's centre-back corner to the back
+    // panel's shoulder end; through the shoulder and front-neck seams, the back neckline's two
+    // ends become one point and 12 cm of neckline per side is gathered at the nape (this is
+    // what a direction chosen from the 3D placement did). A seam side whose two ends are sewn
+    // together, through any chain of seams, is such a gather.
+    for f in ["shirt_mean", "hoody_mean", "js_mean_all", "flare_skirt", "dress_pencil"] {
+        let (g, _) = garmentcode(&format!("{f}_specification.json"), 0.04);
+        let class = sewn_corner_classes(&g);
+        for s in &g.seams {
+            for side in [&s.a, &s.b] {
+                let name = &g.pieces[side.piece].source.name;
+                assert_ne!(
+                    class(side.piece, side.start),
+                    class(side.piece, side.end),
+                    "{f}: {}: the two ends of {name}'s side are sewn together",
+                    s.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_hood_meets_the_back_at_the_centre_back() {
+    let (g, _) = garmentcode("hoody_mean_specification.json", 0.04);
+    let piece = |n: &str| g.pieces.iter().position(|p| p.source.name == n).unwrap();
+    let (back, hood) = (piece("left_btorso"), piece("left_hood"));
+    let seam = g.seams.iter().find(|s| s.a.piece == back && s.b.piece == hood).expect("the back neckline seam");
+    // The back panel's centre-back line is x = 0; the hood's centre seam ends at its corner
+    // nearest the file's vertex 0 ((0.82, -0.65) cm).
+    let (a_cb, b_cb) =
+        if seam.a.start[0].abs() < 1e-9 { (seam.a.start, seam.b.start) } else { (seam.a.end, seam.b.end) };
+    assert!(a_cb[0].abs() < 1e-9, "the seam does not end on the back's centre line: {:?}", seam.a);
+    assert!(
+        (b_cb[0] - 0.008188).abs() < 1e-6 && (b_cb[1] + 0.006489).abs() < 1e-6,
+        "the back's centre-back corner is sewn to the hood at {b_cb:?}"
+    );
 }
 
 #[test]

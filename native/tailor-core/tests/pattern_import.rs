@@ -541,3 +541,33 @@ fn garmentcode_errors_name_panel_and_edge() {
     .to_string();
     assert!(e.contains("stitch 2") && e.contains("\"nope\""), "{e}");
 }
+
+#[test]
+fn garmentcode_stitches_sew_right_side_to_right_side_unless_marked() {
+    let text = std::fs::read_to_string(data("garmentcode/hoody_mean_specification.json")).unwrap();
+    let parse = |v: &serde_json::Value| {
+        tailor_core::pattern::read_pattern_bytes(
+            Path::new("hoody.json"),
+            v.to_string().as_bytes(),
+            &ReadOptions::default(),
+        )
+    };
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let p = parse(&v).unwrap();
+    let turned: Vec<bool> = p.pieces.iter().map(|q| q.placement.as_ref().unwrap().flipped).collect();
+    assert!(turned.iter().any(|&t| t) && turned.iter().any(|&t| !t), "the hoody has panels listed both ways");
+    for (i, s) in p.stitches.iter().enumerate() {
+        // The file's vertex order runs the two edges opposite; counter-clockwise after reading,
+        // that is B against A unless exactly one of the two panels was turned round.
+        assert_eq!(s.b_clockwise, turned[s.a.piece] == turned[s.b.piece], "stitch {i}");
+    }
+    let mut marked = v.clone();
+    marked["pattern"]["stitches"][1].as_array_mut().unwrap().push("right_wrong".into());
+    let q = parse(&marked).unwrap();
+    assert_eq!(q.stitches[1].b_clockwise, !p.stitches[1].b_clockwise);
+    assert_eq!(q.stitches[0], p.stitches[0]);
+    let mut bad = v;
+    bad["pattern"]["stitches"][4].as_array_mut().unwrap().push("inside_out".into());
+    let e = parse(&bad).unwrap_err().to_string();
+    assert!(e.contains("stitch 4") && e.contains("right_wrong"), "{e}");
+}

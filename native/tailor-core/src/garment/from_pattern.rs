@@ -16,7 +16,7 @@ use serde_json::Value;
 use super::stitches::stitch_seam;
 use crate::error::Result;
 use crate::garment_file::{Garment, GarmentPiece};
-use crate::pattern::{read_pattern, Pattern, Piece, Placement, ReadOptions};
+use crate::pattern::{read_pattern, Pattern, Piece, ReadOptions};
 use crate::seam::SeamMode;
 use crate::triangulate::{triangulate_piece, PieceMesh, TriangulateOptions};
 
@@ -73,9 +73,8 @@ pub fn garment_from_pattern(pattern: &Pattern, options: &TriangulateOptions) -> 
         meshes.push(mesh);
         warnings.extend(warning.map(Value::String));
     }
-    let placements: Vec<Option<Placement>> = pattern.pieces.iter().map(|p| p.placement.clone()).collect();
     for (i, stitch) in pattern.stitches.iter().enumerate() {
-        let mut seam = stitch_seam(i, stitch, &pattern.pieces, &placements, SeamMode::Unequal)?;
+        let mut seam = stitch_seam(i, stitch, &pattern.pieces, SeamMode::Unequal)?;
         let r = seam.resolve(&meshes)?;
         if r.a.len() == r.b.len() {
             seam.mode = SeamMode::Equal;

@@ -5,7 +5,7 @@
 //! placement, bend, sewing and the solver); it holds no geometry of its own.
 //!
 //! * [`stitches`]: GarmentCode stitches (two named piece edges) become resolution-independent
-//!   [`Seam`](crate::seam::Seam)s, walking direction chosen from the 3D placement.
+//!   [`Seam`](crate::seam::Seam)s, walking direction as the file sews them.
 //! * [`from_pattern`]: every piece triangulated at one edge length, stitches turned into seams.
 //! * [`resolution`]: re-triangulating one piece and remapping the seams that touch it.
 //! * [`build`]: triangulate, place (pattern placement or side by side), bend, sew, and convert

@@ -17,6 +17,17 @@
 //! outline the file lists clockwise (GarmentCode does this for panels facing backwards) is
 //! reversed to counter-clockwise: each span then runs from the file edge's end vertex to its
 //! start vertex, and `Placement::flipped` records the reversal.
+//!
+//! A stitch `[{panel, edge}, {panel, edge}]` sews the two edges in opposite senses of the
+//! file's vertex order, A's start to B's end: two panels seen from their right side walk a
+//! shared edge in opposite senses (pygarment's box mesh: `swap`, the default). A third element
+//! `"right_wrong"` sews them in the same sense. After the reader turns clockwise panels round,
+//! B is walked clockwise ([`Stitch::b_clockwise`]) when both panels or neither were turned,
+//! and the other way when exactly one was (or the stitch is right-to-wrong). Choosing by the
+//! pieces' 3D placement instead (the nearer pairing of the two edges) gets it wrong where a
+//! placement puts the edges crosswise: the hoody's hood stands beside the head with its
+//! neckline's back corner nearer the shoulder than the centre back, and sewn that way the
+//! hood gathered the whole back neckline into a bunch at the nape.
 
 use super::{flatten, outline, OutlineSpan, Pattern, Piece, Placement, Point2, ReadOptions, Stitch, StitchSide};
 use crate::error::{Result, TailorError};
@@ -85,22 +96,31 @@ pub fn read(file: &str, bytes: &[u8], opts: &ReadOptions) -> Result<Pattern> {
     order.extend(rest);
 
     let mut pieces = Vec::with_capacity(order.len());
+    let mut turned = Vec::with_capacity(order.len());
     for name in &order {
-        pieces.push(panel(&ctx, name, &panels[name], scale)?);
+        let (piece, flipped) = panel(&ctx, name, &panels[name], scale)?;
+        pieces.push(piece);
+        turned.push(flipped);
     }
     let stitches = match pattern.get("stitches") {
         None => Vec::new(),
         Some(s) => {
             let list = s.as_array().ok_or_else(|| TailorError::parse(file, "pattern.stitches", "is not a list"))?;
-            list.iter().enumerate().map(|(i, s)| stitch(&ctx, i, s, &order, &pieces)).collect::<Result<_>>()?
+            list.iter().enumerate().map(|(i, s)| stitch(&ctx, i, s, &order, &pieces, &turned)).collect::<Result<_>>()?
         }
     };
     Ok(Pattern { source: file.to_string(), pieces, stitches, sizes: Vec::new(), size: None })
 }
 
-fn stitch(ctx: &Ctx, i: usize, s: &Value, order: &[String], pieces: &[Piece]) -> Result<Stitch> {
+/// Stitch `i`; `turned[p]` says whether piece `p`'s outline was reversed on reading.
+fn stitch(ctx: &Ctx, i: usize, s: &Value, order: &[String], pieces: &[Piece], turned: &[bool]) -> Result<Stitch> {
     let err = |reason: String| TailorError::parse(ctx.file, format!("stitch {i}"), reason);
-    let sides = s.as_array().filter(|a| a.len() == 2).ok_or_else(|| err("is not a pair of {panel, edge}".into()))?;
+    let list = s.as_array().map(Vec::as_slice);
+    let (sides, right_wrong) = match list {
+        Some([a, b]) => ([a, b], false),
+        Some([a, b, Value::String(t)]) if t == "right_wrong" => ([a, b], true),
+        _ => return Err(err("is not a pair of {panel, edge} (optionally followed by \"right_wrong\")".into())),
+    };
     let side = |v: &Value| -> Result<StitchSide> {
         let name = v.get("panel").and_then(Value::as_str).ok_or_else(|| err("a side has no \"panel\" name".into()))?;
         let piece =
@@ -112,10 +132,13 @@ fn stitch(ctx: &Ctx, i: usize, s: &Value, order: &[String], pieces: &[Piece]) ->
         }
         Ok(StitchSide { piece, edge })
     };
-    Ok(Stitch { a: side(&sides[0])?, b: side(&sides[1])? })
+    let (a, b) = (side(sides[0])?, side(sides[1])?);
+    let b_clockwise = (turned[a.piece] == turned[b.piece]) != right_wrong;
+    Ok(Stitch { a, b, b_clockwise })
 }
 
-fn panel(ctx: &Ctx, name: &str, p: &Value, scale: f64) -> Result<Piece> {
+/// The panel as a piece, and whether its outline was listed clockwise (and turned round).
+fn panel(ctx: &Ctx, name: &str, p: &Value, scale: f64) -> Result<(Piece, bool)> {
     let who = format!("panel {name:?}");
     let err = |entity: &str, reason: String| TailorError::parse(ctx.file, entity, reason);
     let verts: Vec<Point2> = p
@@ -201,7 +224,7 @@ fn panel(ctx: &Ctx, name: &str, p: &Value, scale: f64) -> Result<Piece> {
         (None, None) => None,
         (t, r) => Some(Placement { translation: t.unwrap_or([0.0; 3]), rotation_deg: r.unwrap_or([0.0; 3]), flipped }),
     };
-    Ok(Piece {
+    let piece = Piece {
         name: name.to_string(),
         outline: pts,
         fixed_vertices: fixed,
@@ -211,7 +234,8 @@ fn panel(ctx: &Ctx, name: &str, p: &Value, scale: f64) -> Result<Piece> {
         grain: None,
         placement,
         edges: spans,
-    })
+    };
+    Ok((piece, flipped))
 }
 
 /// Appends the points of one edge after `s`, ending with `e`.

@@ -66,6 +66,11 @@ pub struct StitchSide {
 pub struct Stitch {
     pub a: StitchSide,
     pub b: StitchSide,
+    /// Whether B's edge is walked clockwise (against A's, which is walked counter-clockwise)
+    /// so that the two walks meet point for point. The file decides, not the placement:
+    /// GarmentCode sews A's start to B's end in the file's vertex order (right side to right
+    /// side) unless the stitch is marked `"right_wrong"`; see [`garmentcode`](super::garmentcode).
+    pub b_clockwise: bool,
 }
 
 /// A whole pattern as read from one file (one size of a graded nest).

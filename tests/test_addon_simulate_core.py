@@ -134,6 +134,23 @@ def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
         core_sim.build(g, core_sim.SimSettings(), fabrics, maps, [core_sim.ColliderData("box", bad, t)])
 
 
+def test_self_collision_radius_passes_through_or_stays_automatic():
+    FABRICS = [core_sim.PieceFabric(0.2, 600.0, 60.0, 2e-5)] * 2
+    g = two_pieces()
+    col = [core_sim.ColliderData("box", *box())]
+    auto = core_sim.build(g, core_sim.SimSettings(self_collision=True), FABRICS, [{}, {}], col)
+    assert auto.sim.self_collision["enabled"] and auto.sim.self_collision["radius_setting"] is None
+    assert auto.sim.self_collision["radius"] > 0.01  # half the mean edge of a 5 cm mesh
+    s = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007)
+    assert core_sim.self_collision_args(s) == {"enabled": True, "radius": 0.007}
+    set_ = core_sim.build(g, s, FABRICS, [{}, {}], col)
+    assert set_.sim.self_collision["radius"] == pytest.approx(0.007)
+    for bad in (float("nan"), -0.001):
+        with pytest.raises(tailor.InvalidParameterError, match="self-collision radius"):
+            core_sim.build(g, core_sim.SimSettings(self_collision=True, self_collision_radius=bad), FABRICS,
+                           [{}, {}], col)
+
+
 def test_triangle_size_spread():
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [10, 0, 0]], np.float32)
     even = core_sim.triangle_size_spread(v, [[0, 1, 2]])

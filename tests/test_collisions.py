@@ -108,10 +108,13 @@ def test_friction_and_self_collision_settings():
     sim.set_particle_friction()
     sim.set_collider_friction(cid, 0.8, 0.6)
     sim.set_self_collision(enabled=False)
-    assert sim.self_collision["enabled"] is False
+    assert sim.self_collision["enabled"] is False and sim.self_collision["radius_setting"] is None
+    auto = sim.self_collision["radius"]
+    assert auto == pytest.approx(0.5 * np.mean(np.linalg.norm(np.diff(sim.rest[sim.edges], axis=1)[:, 0], axis=1)),
+                                 rel=1e-3)  # half the mean rest edge
     sim.set_self_collision(radius=0.01, static_friction=0.2, kinetic_friction=0.1)
     s = sim.self_collision
-    assert s["enabled"] and s["radius"] == pytest.approx(0.01)
+    assert s["enabled"] and s["radius"] == pytest.approx(0.01) and s["radius_setting"] == pytest.approx(0.01)
     sim.step(1 / 30)
 
 

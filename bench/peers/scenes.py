@@ -73,7 +73,8 @@ def build_simulation(scene: dict, substeps: int, iterations: int):
                               scene["seam_b_weights"][s], stiffness=float(scene["seam_stiffness"][k]),
                               bend_stiffness=float(scene["seam_bend_stiffness"][k]), name=f"seam{k}")
     sim.thickness = float(scene["thickness"])
-    sim.set_self_collision(enabled=bool(scene["self_collision"]))
+    radius = float(scene["self_collision_radius"]) if "self_collision_radius" in scene else 0.0
+    sim.set_self_collision(enabled=bool(scene["self_collision"]), radius=radius if radius > 0 else None)
     cid = None
     if len(scene["body_triangles"]):
         cid = sim.add_mesh_collider(scene["body_vertices"], scene["body_triangles"])

@@ -57,7 +57,7 @@ def main(argv=None) -> int:
     ch = on_character.Character(SAMPLES / "character.glb")
     d = on_character.dress(path, ch.rest, ch.triangles)
     if args.self_collision != "file":
-        d.sim.set_self_collision(enabled=args.self_collision == "on")
+        d.sim.set_self_collision(enabled=args.self_collision == "on", radius=d.sim.self_collision["radius_setting"])
     names = [p.name for p in tailor.Garment.load(str(path)).pieces]
     seams = d.sim.seam_pairs()
     for f in range(args.frames):

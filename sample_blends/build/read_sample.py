@@ -60,7 +60,9 @@ def main(blend: str, out: str) -> None:
     arrays.update(levels=levels, pins=pins, body=bv.reshape(-1, 3), body_triangles=bt.reshape(-1, 3),
                   body_levels=body_levels if body_levels is not None else np.zeros(len(me.vertices), np.int32))
     meta = {"seams": seams, "fabrics": fabrics, "pieces": [o.name for o in objs],
-            "pose_position": bpy.data.objects["Rig"].data.pose_position, "frame_rate": scene.render.fps}
+            "pose_position": bpy.data.objects["Rig"].data.pose_position, "frame_rate": scene.render.fps,
+            "simulate": {k: getattr(scene.tailor_simulate, k) for k in ("thickness", "self_collision",
+                                                                       "self_collision_radius")}}
     np.savez(out, meta=json.dumps(meta), **arrays)
 
 

@@ -110,6 +110,7 @@ def walking_scene(name: str, blend_path: Path, frames: int = 24, preroll: int = 
     s.preset = preset
     s.thickness = float(spec["thickness"])
     s.self_collision = bool(spec["self_collision"])
+    s.self_collision_radius = float(spec.get("self_collision_radius", 0.0))
     s.preroll, s.transition = preroll, transition
     s.use_scene_range = True
     scene.frame_start, scene.frame_end = start, start + frames - 1
@@ -143,6 +144,7 @@ def garment_arrays(scene, name: str) -> tuple[dict, list]:
     arrays.update(density=np.float32(f0.density), stretch=np.float32(f0.stretch), shear=np.float32(f0.shear),
                   bend=np.float32(f0.bend), thickness=np.float32(s.thickness), fps=np.float32(fps),
                   self_collision=np.bool_(s.self_collision), pin_weights=weights,
+                  self_collision_radius=np.float32(s.self_collision_radius),
                   fabrics_differ=len({(f.stretch, f.shear, f.bend) for f in fabrics}) > 1)
     return arrays, objects
 

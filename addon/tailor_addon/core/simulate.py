@@ -14,7 +14,7 @@ pieces differ).
 
 Pins (`SimSettings.pin_mode`): `ATTACH` (default) makes the painted pins ride on the first
 collider (the character): `tailor.bake.Bake` attaches them, softly at `pin_stiffness` N/m times
-the painted weight, once the seams have met (attached from the first frame they would hold the
+the painted weight, once every seam has met (attached from the first frame they would hold the
 seams open), and from then on they follow the body. `FIXED` holds them where they were placed,
 in world space, from the first frame: weight 1 hard pins, lower weights soft attachments.
 """
@@ -93,6 +93,7 @@ class SimSettings:
     ramp_closing_damping: float | None = None
     thickness: float = 0.004
     self_collision: bool = False
+    self_collision_radius: float = 0.0  # sphere radius, metres; 0: half the mean rest edge
     fps: float = 30.0
     seam_stiffness: float = 1.0e4  # tailor.DEFAULT_SEAM_STIFFNESS: the gap of a closed seam is tension / stiffness
     seam_bend_stiffness: float = 1e-5
@@ -169,6 +170,14 @@ def _per_particle(garment: SceneGarment, maps: list[dict], key: str, default: fl
     return out, any_painted
 
 
+def self_collision_args(settings: SimSettings) -> dict:
+    """`Simulation.set_self_collision`'s arguments for `settings` (radius None: automatic)."""
+    r = float(settings.self_collision_radius)
+    if not (np.isfinite(r) and r >= 0.0):
+        raise tailor.InvalidParameterError(f"self-collision radius is {r}: must be 0 (automatic) or a positive length")
+    return {"enabled": bool(settings.self_collision), "radius": r if r > 0.0 else None}
+
+
 def build(
     garment: SceneGarment,
     settings: SimSettings,
@@ -210,7 +219,7 @@ def build(
     levels, painted = _per_particle(garment, maps, "collision_level", 0)
     if painted:
         sim.set_particle_levels(levels.astype(np.int32))
-    sim.set_self_collision(enabled=bool(settings.self_collision))
+    sim.set_self_collision(**self_collision_args(settings))
     out = []
     for c in colliders:
         cid = sim.add_mesh_collider(

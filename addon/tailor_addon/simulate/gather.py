@@ -31,6 +31,7 @@ def sim_settings(scene) -> SimSettings:
         ramp_closing_damping=s.ramp_closing_damping,
         thickness=s.thickness,
         self_collision=s.self_collision,
+        self_collision_radius=s.self_collision_radius,
         fps=scene.render.fps / scene.render.fps_base,
         seam_stiffness=s.seam_stiffness,
         seam_bend_stiffness=s.seam_bend_stiffness,

@@ -165,8 +165,9 @@ def _same_maps(a: list[dict], b: list[dict], key: str) -> bool:
 def _apply_settings(sim, s: core_sim.SimSettings) -> None:
     sim.settings = s.to_tailor()
     sim.thickness = float(s.thickness)
-    if sim.self_collision["enabled"] != bool(s.self_collision):
-        sim.set_self_collision(enabled=bool(s.self_collision))
+    want = core_sim.self_collision_args(s)
+    if (sim.self_collision["enabled"], sim.self_collision["radius_setting"]) != (want["enabled"], want["radius"]):
+        sim.set_self_collision(**want)
 
 
 def start(context) -> LiveSession:

@@ -101,6 +101,11 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         name="Self-Collision", description="Cloth against itself (layered garments; fights closing seams)",
         default=False,
     )
+    self_collision_radius: FloatProperty(
+        name="Radius", description="Self-collision sphere radius of each particle (0: half the mean edge length). "
+        "Smaller lets layers lie closer, where a crease squeezes them; much under half an edge lets them pass "
+        "between particles", min=0.0, default=0.0, subtype="DISTANCE", unit="LENGTH", precision=4,
+    )
     # tailor.DEFAULT_SEAM_STIFFNESS (a literal: properties are declared before the module loads).
     seam_stiffness: FloatProperty(name="Seam Stiffness", description="N/m, times each seam's factor", min=0.0,
                                   default=1.0e4)

@@ -102,7 +102,7 @@ class Collider:
 class ColliderPins:
     """Pinned particles that ride on mesh collider `collider` once the seams have met: each
     group of particles is attached with its stiffness (N/m per particle) by `attach`, which
-    `Bake` calls after the first solver frame whose ramp phase is no longer "closing"."""
+    `Bake` calls through `after_frame` once every seam has met (see there)."""
 
     collider: int
     groups: list[tuple[np.ndarray, float]]
@@ -122,10 +122,19 @@ class ColliderPins:
         self.attached = True
 
     def after_frame(self, sim: Simulation, ramp_phase: str) -> bool:
-        """Attaches the pins after the first frame whose ramp phase is no longer "closing";
-        returns whether they are attached."""
+        """Attaches the pins after the first frame at which every seam has met: the ramp phase
+        is no longer "closing" (most pairs have met) and the widest pair is within the ramp's
+        gap threshold; or, whatever the widest pair, once the ramp's release is over ("done"),
+        so that a seam that never closes does not leave the garment unpinned. Returns whether
+        they are attached.
+
+        Not at the ramp's release alone: it comes when most pairs (`ramp_closed_fraction`) have
+        met, and a short seam still open then (the layered sample's hoody's shoulder seams,
+        9 cm apart) would close against pins already holding both its sides to the body: it
+        stayed 1.2 mm open for good (0.9 mm when the pins waited for it)."""
         if not self.attached and ramp_phase != "closing":
-            self.attach(sim)
+            if ramp_phase == "done" or sim.seam_gaps()[0] <= sim.settings.ramp_gap_threshold:
+                self.attach(sim)
         return self.attached
 
     def replace(self, sim: Simulation, groups: list[tuple[np.ndarray, float]]) -> None:
@@ -152,8 +161,8 @@ class Bake:
     With `assembly_gravity` set (typically zero) the preroll runs under that gravity: a garment
     whose seams are still open has nothing to hang on and would fall off the body while they
     close. `pins` (optional) are attached to their collider after the first solver frame,
-    preroll included, whose seams have met. `frames[i]` and `records[i]` are frame
-    `start + i`."""
+    preroll included, at which every seam has met (`ColliderPins.after_frame`). `frames[i]` and
+    `records[i]` are frame `start + i`."""
 
     sim: Simulation
     colliders: list[Collider]

@@ -109,6 +109,7 @@ pub fn self_collision_dict<'py>(
     let d = PyDict::new(py);
     d.set_item("enabled", s.enabled)?;
     d.set_item("radius", radius)?;
+    d.set_item("radius_setting", s.radius)?;
     d.set_item("static_friction", s.static_friction)?;
     d.set_item("kinetic_friction", s.kinetic_friction)?;
     Ok(d)

@@ -136,7 +136,8 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
         sim.set_particle_levels(levels)
     thickness = float(thickness if thickness is not None else sample.get("thickness", 0.004))
     sim.thickness = thickness  # write-only on the module's Simulation
-    sim.set_self_collision(enabled=bool(sample.get("self_collision", False)))
+    radius = float(sample.get("self_collision_radius", 0.0))  # 0: the solver's default
+    sim.set_self_collision(enabled=bool(sample.get("self_collision", False)), radius=radius if radius > 0 else None)
     cid = sim.add_mesh_collider(np.asarray(body, np.float32), triangles, static_friction=0.6, kinetic_friction=0.4)
     pins = np.zeros(n, np.float32)
     for piece, values in params.get("pin", {}).items():
@@ -153,6 +154,7 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
         "triangles": int(sim.num_triangles),
         "levels": sorted(set(int(x) for x in np.unique(levels))),
         "self_collision": bool(sample.get("self_collision", False)),
+        "self_collision_radius_m": float(sim.self_collision["radius"]),
         "thickness_m": thickness,
         "attached": int((pins > 0).sum()),
     }

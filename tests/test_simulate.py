@@ -116,3 +116,32 @@ def test_garmentcode_shirt_assembles_on_the_body(tmp_path):
     centroid, top = x.mean(axis=0), x[:, 1].max()
     assert 0.98 < centroid[1] < 1.35 and abs(centroid[0]) < 0.05 and abs(centroid[2]) < 0.08, centroid
     assert 1.2 < top < 1.50, top
+
+
+SAMPLES = Path(__file__).resolve().parents[1] / "sample_blends"
+
+
+def test_a_sample_garment_file_simulates_with_its_own_settings(tmp_path):
+    """What the garment file records besides pieces and seams is used, as the add-on and the
+    samples' checks use it: the T-shirt's painted shoulder pins ride on the character once every
+    seam has met; the layered outfit collides with itself at its own sphere radius; flags
+    override the file; values that no longer fit a re-triangulated garment are left out with a
+    warning in the report."""
+    character = SAMPLES / "character.glb"
+    report = tmp_path / "tshirt.json"
+    r = cli("simulate", SAMPLES / "tshirt.json", "--collider", character, "--frames", "32", "--report", report)
+    assert r.returncode == 0, r.stderr
+    rep = json.loads(report.read_text())
+    assert rep["attached"] > 0 and rep["pins_attached"] and not rep["warnings"], {k: rep[k] for k in rep if k != "frames"}
+    assert rep["thickness_m"] == pytest.approx(0.004) and rep["self_collision"] is False
+    r = cli("simulate", SAMPLES / "layered.json", "--collider", character, "--frames", "1", "--report", report,
+            "--thickness", "0.005")
+    assert r.returncode == 0, r.stderr
+    rep = json.loads(report.read_text())
+    assert rep["self_collision"] and rep["self_collision_radius_m"] == pytest.approx(0.007)
+    assert rep["thickness_m"] == pytest.approx(0.005) and "self-collision on" in r.stdout
+    r = cli("simulate", SAMPLES / "tshirt.json", "--collider", character, "--frames", "1", "--report", report,
+            "--edge", "0.03")
+    assert r.returncode == 0, r.stderr
+    rep = json.loads(report.read_text())
+    assert rep["attached"] == 0 and any("painted 'pin'" in w and "left out" in w for w in rep["warnings"]), rep["warnings"]

@@ -8,6 +8,12 @@ of the collider's vertex positions per frame. Gravity points down the up axis: Y
 glTF files by their convention, Z for PLY, unless ``--up`` says. The garment assembles (its seams
 close under the damping ramp) and follows the collider. The report holds one record per frame
 and a summary of the same fields (worst case over the frames, mean frame time).
+
+What the garment file records besides its pieces and seams is used as the samples and the
+add-on use it (`tailor.commands.on_character.file_setup`): fabric per piece, collision levels of
+the particles and of the collider, thickness, self-collision and its radius, and painted pins,
+which ride on the collider once every seam has met. ``--thickness`` and ``--self-collision``
+override the file's.
 """
 
 from __future__ import annotations
@@ -35,8 +41,9 @@ def register(sub):
     p.add_argument("--edge", type=float, help="re-triangulate every piece at this edge length first")
     p.add_argument("--substeps", type=int, default=8)
     p.add_argument("--iterations", type=int, default=15)
-    p.add_argument("--thickness", type=float, default=0.004, help="collision thickness, metres")
-    p.add_argument("--self-collision", action="store_true", help="turn on cloth self-collision (layered garments)")
+    p.add_argument("--thickness", type=float, help="collision thickness, metres (default: the garment file's, else 0.004)")
+    p.add_argument("--self-collision", action="store_true", default=None,
+                   help="turn on cloth self-collision (default: as the garment file says, else off)")
     p.set_defaults(run=run)
 
 
@@ -77,6 +84,7 @@ class ColliderMotion:
 def run(args):
     import tailor
     from tailor import bake
+    from tailor.commands import garment_extras, on_character
 
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
     gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
@@ -85,18 +93,23 @@ def run(args):
     if args.edge:
         for i in range(len(garment.pieces)):
             garment.set_resolution(i, args.edge)
+    extras, params = garment_extras.read_extras(args.garment)
     settings = tailor.Settings(substeps=args.substeps, iterations=args.iterations, gravity=gravity)
-    sim, _offsets = garment.build_simulation(settings=settings)
+    sim, offsets = garment.build_simulation(on_character.base_fabric(extras), settings)
     sim.set_backend(args.backend)
-    sim.thickness = args.thickness
-    sim.set_self_collision(enabled=args.self_collision)
     motion = ColliderMotion(args.collider, args.collider_anim, args.fps)
     cid = sim.add_mesh_collider(motion.at(0), motion.triangles)
+    setup, pins, setup_warnings = on_character.file_setup(
+        sim, garment, offsets, extras, params, cid, len(motion.rest), args.thickness, args.self_collision)
+    warnings += setup_warnings
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
           f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}, "
-          f"backend {sim.backend}{f' ({sim.adapter})' if sim.adapter else ''}")
+          f"backend {sim.backend}{f' ({sim.adapter})' if sim.adapter else ''}; thickness "
+          f"{setup['thickness_m'] * 1e3:g} mm, self-collision {'on' if setup['self_collision'] else 'off'}, "
+          f"{setup['attached']} pinned particles")
     # Frame 0 is the garment as placed; frames 1..N are one step each (tailor.bake.Bake).
-    run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0)
+    run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0,
+                    pins=pins if len(pins.particles) else None)
     run.step([motion.at(0)])
     frames = []
     while run.next_frame <= args.frames:
@@ -114,8 +127,8 @@ def run(args):
                   f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
                   f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}")
     summary = bake.summarize(frames)
-    report = {"frames": frames, "summary": summary, "warnings": warnings, "thickness_m": args.thickness,
-              "backend": sim.backend, "adapter": sim.adapter}
+    report = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
+              "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached)}
     Path(args.report).parent.mkdir(parents=True, exist_ok=True)
     tmp = args.report + ".tmp"
     with open(tmp, "w") as fh:

@@ -151,6 +151,25 @@ def test_self_collision_radius_passes_through_or_stays_automatic():
                            [{}, {}], col)
 
 
+def test_file_extras_are_what_the_module_reads_back():
+    from tailor.commands import garment_extras
+
+    fab = [core_sim.PieceFabric(0.2, 600.0, 60.0, 2e-5), core_sim.PieceFabric(0.3, 900.0, 90.0, 5e-5)]
+    pin = np.array([0.0, 1.0, 0.5], np.float32)
+    maps = [{"pin": (pin, np.array([False, True, True]))}, {"collision_level": (np.array([3, 3], np.int32), np.ones(2, bool))}]
+    body = np.array([0, 0, 1, 1, 0, 2], np.int32)
+    settings, params = core_sim.file_extras("coat", core_sim.SimSettings(self_collision=True, self_collision_radius=0.007),
+                                            fab, maps, body)
+    s = settings["tailor_sample"]
+    assert s["name"] == "coat" and s["fabric_per_piece"][1] == {"density": 0.3, "stretch": 900.0, "shear": 90.0,
+                                                                "bend": 5e-5}
+    assert s["self_collision"] and s["self_collision_radius"] == 0.007 and s["thickness"] == 0.004
+    np.testing.assert_array_equal(garment_extras.decode_runs(s["collider_levels"]["runs"], 6), body)
+    assert [(n, k, v.tolist()) for n, k, v in params] == [("pin", 0, [0.0, 1.0, 0.5]), ("collision_level", 1, [3, 3])]
+    assert "collider_levels" not in core_sim.file_extras("coat", core_sim.SimSettings(), fab, [{}, {}], np.zeros(6))[0][
+        "tailor_sample"]
+
+
 def test_triangle_size_spread():
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [10, 0, 0]], np.float32)
     even = core_sim.triangle_size_spread(v, [[0, 1, 2]])

@@ -94,11 +94,27 @@ def test_scene_exports_a_garment_file_the_module_simulates_alike(scene, addon, t
 def test_export_operator_writes_a_garment_file(scene, addon, tmp_path):
     import tailor
 
+    from tailor.commands import garment_extras
+
     import_pattern(DATA / "svg/skirt_two_panels.svg", edge_length=0.05)
+    # Fabric, a painted pin line, simulation settings: the file carries them for the module.
+    front = bpy.data.objects["skirt front"]
+    front.tailor_piece.stretch = 1234.0
+    front.vertex_groups.new(name="tailor_pin").add([0, 1, 2], 1.0, "REPLACE")
+    s = scene.tailor_simulate
+    s.thickness, s.self_collision, s.self_collision_radius = 0.005, True, 0.007
     out = tmp_path / "skirt.json"
     assert bpy.ops.tailor.export_garment(filepath=str(out)) == {"FINISHED"}
     g = tailor.Garment.load(str(out))
     assert sorted(p.name for p in g.pieces) == ["skirt back", "skirt front"] and (tmp_path / "skirt.bin").exists()
+    extras, params = garment_extras.read_extras(out)
+    stored = extras["tailor_sample"]
+    k = [p.name for p in g.pieces].index("skirt front")
+    assert stored["fabric_per_piece"][k]["stretch"] == pytest.approx(1234.0)
+    assert stored["thickness"] == pytest.approx(0.005) and stored["self_collision"]
+    assert stored["self_collision_radius"] == pytest.approx(0.007)
+    pin = params["pin"][k]
+    assert len(pin) == len(front.data.vertices) and np.flatnonzero(pin).tolist() == [0, 1, 2]
     bpy.ops.wm.read_homefile(use_empty=True)
     with pytest.raises(RuntimeError, match="Exporting the garment failed: the scene has no garment pieces"):
         bpy.ops.tailor.export_garment(filepath=str(out))

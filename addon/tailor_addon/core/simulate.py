@@ -170,6 +170,37 @@ def _per_particle(garment: SceneGarment, maps: list[dict], key: str, default: fl
     return out, any_painted
 
 
+def file_extras(name: str, settings: SimSettings, fabrics: list[PieceFabric], maps: list[dict],
+                collider_levels: np.ndarray | None = None) -> tuple[dict, list]:
+    """What a garment file exported from the scene records besides its pieces and seams, in the
+    form `tailor.commands.on_character.file_setup` (and so `python -m tailor simulate`) reads
+    back: (settings, per-particle params) for `tailor.commands.garment_extras.add_extras`. The
+    settings (under `tailor_sample`, the key the sample garments introduced): fabric per piece,
+    thickness, self-collision and its radius, and the collider's collision levels when painted;
+    the params: painted pin weights (0 where unpainted) and collision levels per piece."""
+    from tailor.commands import garment_extras
+
+    sample = {
+        "name": name,
+        "fabric_per_piece": [{"density": f.density, "stretch": f.stretch, "shear": f.shear, "bend": f.bend}
+                             for f in fabrics],
+        "thickness": float(settings.thickness),
+        "self_collision": bool(settings.self_collision),
+        "self_collision_radius": float(settings.self_collision_radius),
+    }
+    if collider_levels is not None and np.any(collider_levels):
+        sample["collider_levels"] = {"vertices": int(len(collider_levels)),
+                                     "runs": garment_extras.encode_runs(collider_levels)}
+    params = []
+    for piece, m in enumerate(maps):
+        if "pin" in m:
+            values, painted = m["pin"]
+            params.append(("pin", piece, np.where(painted, values, 0.0).astype(np.float32)))
+        if "collision_level" in m:
+            params.append(("collision_level", piece, np.asarray(m["collision_level"][0], np.int32)))
+    return {"tailor_sample": sample}, params
+
+
 def self_collision_args(settings: SimSettings) -> dict:
     """`Simulation.set_self_collision`'s arguments for `settings` (radius None: automatic)."""
     r = float(settings.self_collision_radius)

@@ -8,6 +8,7 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 from mathutils import Euler, Matrix
 
 import tailor
+from tailor.commands import garment_extras
 
 from .. import scene_data
 from ..core import AddonError, mesh_arrays, placement_rotation, side_by_side
@@ -180,12 +181,27 @@ class TAILOR_OT_set_resolution(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def export_extras(scene, garment: str | None, name: str) -> tuple[dict, list]:
+    """The scene's fabric, painted maps and simulation settings for the garment file
+    (`core.simulate.file_extras`), the pieces in `scene_data.garment_file`'s order."""
+    from ..core import simulate as core_sim
+    from ..paint.maps import collision_levels, painted_maps
+    from ..simulate import gather
+
+    objects = scene_data.piece_objects(scene, garment)
+    colliders = gather.collider_objects(scene)
+    levels = collision_levels(colliders[0]) if colliders else None
+    return core_sim.file_extras(name, gather.sim_settings(scene), gather.fabrics(objects),
+                                [painted_maps(o) for o in objects], levels)
+
+
 class TAILOR_OT_export_garment(bpy.types.Operator, ExportHelper):
     bl_idname = "tailor.export_garment"
     bl_label = "Export Tailor Garment"
     bl_description = (
-        "Write the scene's garment (pieces, resolutions, placements, bends, seams) as a Tailor garment file "
-        "(.json + .bin) that the tailor module simulates without Blender"
+        "Write the scene's garment (pieces, resolutions, placements, bends, seams, fabric, painted pins and "
+        "collision levels, thickness and self-collision) as a Tailor garment file (.json + .bin) that the tailor "
+        "module simulates without Blender"
     )
     bl_options = {"REGISTER", "UNDO"}
 
@@ -198,7 +214,10 @@ class TAILOR_OT_export_garment(bpy.types.Operator, ExportHelper):
         g = scene_data.garment_file(context.scene, self.garment or None)
         path = bpy.path.abspath(self.filepath)
         g.save(path)
-        self.report({"INFO"}, f"Wrote {os.path.basename(path)}: {len(g.pieces)} pieces, {len(g.seams)} seams")
+        extras, params = export_extras(context.scene, self.garment or None, os.path.splitext(os.path.basename(path))[0])
+        garment_extras.add_extras(path, extras, params)
+        self.report({"INFO"}, f"Wrote {os.path.basename(path)}: {len(g.pieces)} pieces, {len(g.seams)} seams, "
+                              f"{len(params)} painted maps")
         return {"FINISHED"}
 
 

@@ -145,3 +145,20 @@ def test_a_sample_garment_file_simulates_with_its_own_settings(tmp_path):
     assert r.returncode == 0, r.stderr
     rep = json.loads(report.read_text())
     assert rep["attached"] == 0 and any("painted 'pin'" in w and "left out" in w for w in rep["warnings"]), rep["warnings"]
+
+
+def test_file_setup_attaches_painted_weights_in_proportion():
+    """A pin painted at weight w rides on the collider at w times the stiffness, as the add-on's
+    Ride on Character attaches it; unpainted (0) particles are not pinned."""
+    from tailor.commands import on_character
+
+    g = tailor.Garment.load(str(SAMPLES / "skirt.json"))
+    sim, offsets = g.build_simulation()
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], np.float32)
+    cid = sim.add_mesh_collider(v, np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]], np.uint32))
+    n0 = len(g.meshes()[0].rest)
+    w = np.zeros(n0, np.float32)
+    w[[0, 1]], w[[2, 3, 4]] = 1.0, 0.5
+    info, pins, warnings = on_character.file_setup(sim, g, offsets, {}, {"pin": {0: w}}, cid, len(v))
+    assert not warnings and info["attached"] == 5 and info["thickness_m"] == 0.004 and not info["self_collision"]
+    assert [(p.tolist(), k) for p, k in pins.groups] == [([2, 3, 4], 50.0), ([0, 1], 100.0)]

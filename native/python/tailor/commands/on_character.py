@@ -120,7 +120,8 @@ def file_setup(sim, garment, offsets, extras: dict, params: dict, collider: int,
     `offsets`) what a garment file records besides its pieces and seams (`garment_extras`):
     fabric per piece, particles' collision levels, thickness, self-collision and its radius,
     the collider's levels (mesh collider `collider`, of `collider_vertices` vertices), and the
-    painted pins, returned as `ColliderPins` riding on the collider once every seam has met.
+    painted pins, returned as `ColliderPins` riding on the collider once every seam has met
+    (weight w at w x `ATTACH_STIFFNESS`, as the add-on's pin mode *Ride on Character*).
     `thickness` and `self_collision` override the file's when given. Per-particle values whose
     piece has another vertex count (the garment re-triangulated since) and collider levels for
     another mesh are left out with a warning. Returns (info, pins, warnings)."""
@@ -176,7 +177,10 @@ def file_setup(sim, garment, offsets, extras: dict, params: dict, collider: int,
         "thickness_m": thickness,
         "attached": int((pins > 0).sum()),
     }
-    return info, ColliderPins(collider, [(np.flatnonzero(pins > 0), ATTACH_STIFFNESS)]), warnings
+    # A painted weight w attaches at w times the stiffness, as the add-on's Ride on Character does.
+    weights = np.round(np.clip(pins, 0.0, 1.0), 2)
+    groups = [(np.flatnonzero(weights == w), ATTACH_STIFFNESS * float(w)) for w in np.unique(weights) if w > 0]
+    return info, ColliderPins(collider, groups), warnings
 
 
 def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, substeps: int = 8,

@@ -597,31 +597,15 @@ def export_garment(sample: Sample, path: Path, body) -> None:
                        "fnv1a64": f"{garment_extras.fnv1a64(garment_extras.MAGIC):016x}"}
     tmp_manifest.write_text(json.dumps(head, indent=2))
     # Fabric per piece and collision levels.
-    params, fabrics = [], []
-    for i, o in enumerate(objs):
-        p = o.tailor_piece
-        fabrics.append({"density": p.density, "stretch": p.stretch, "shear": p.shear, "bend": p.bend})
-        lv = scene_data.point_attribute(o.data, LEVEL_ATTR, np.int32)
-        if lv is not None:
-            params.append(("collision_level", i, lv))
-        maps = painted_maps(o)
-        if "pin" in maps:
-            values, painted = maps["pin"]
-            params.append(("pin", i, np.where(painted, values, 0.0).astype(np.float32)))
-    settings = {
-        "tailor_sample": {
-            "name": sample.name,
-            "character": "character.glb",
-            "up": "y",
-            "fabric_per_piece": fabrics,
-            "thickness": sample.thickness,
-            "self_collision": sample.self_collision,
-            "self_collision_radius": sample.self_collision_radius,
-        }
-    }
-    lv = scene_data.point_attribute(body.data, LEVEL_ATTR, np.int32)
-    if lv is not None:
-        settings["tailor_sample"]["collider_levels"] = {"vertices": len(lv), "runs": garment_extras.encode_runs(lv)}
+    # Fabric, painted pins and levels, the sample's settings: what the add-on's export writes.
+    from tailor_addon.core import simulate as core_sim
+    from tailor_addon.simulate import gather
+
+    chosen = core_sim.SimSettings(thickness=sample.thickness, self_collision=sample.self_collision,
+                                  self_collision_radius=sample.self_collision_radius)
+    settings, params = core_sim.file_extras(sample.name, chosen, gather.fabrics(objs), [painted_maps(o) for o in objs],
+                                            scene_data.point_attribute(body.data, LEVEL_ATTR, np.int32))
+    settings["tailor_sample"].update(character="character.glb", up="y")
     garment_extras.add_extras(tmp_manifest, settings, params)
     check_export(tmp_manifest, objs)
 

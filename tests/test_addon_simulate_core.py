@@ -134,17 +134,26 @@ def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
         core_sim.build(g, core_sim.SimSettings(), fabrics, maps, [core_sim.ColliderData("box", bad, t)])
 
 
-def test_self_collision_radius_passes_through_or_stays_automatic():
+def test_self_collision_radius_and_cloth_friction_pass_through_or_stay_automatic():
     FABRICS = [core_sim.PieceFabric(0.2, 600.0, 60.0, 2e-5)] * 2
     g = two_pieces()
     col = [core_sim.ColliderData("box", *box())]
     auto = core_sim.build(g, core_sim.SimSettings(self_collision=True), FABRICS, [{}, {}], col)
     assert auto.sim.self_collision["enabled"] and auto.sim.self_collision["radius_setting"] is None
     assert auto.sim.self_collision["radius"] > 0.01  # half the mean edge of a 5 cm mesh
-    s = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007)
-    assert core_sim.self_collision_args(s) == {"enabled": True, "radius": 0.007}
+    # The panel's cloth friction (where not painted) is the cloth's friction against itself.
+    assert (auto.sim.self_collision["static_friction"], auto.sim.self_collision["kinetic_friction"]) == (
+        pytest.approx(0.5), pytest.approx(0.3))
+    s = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007, friction_static=0.6,
+                             friction_kinetic=0.4)
+    assert core_sim.self_collision_args(s) == {"enabled": True, "radius": 0.007, "static_friction": 0.6,
+                                               "kinetic_friction": 0.4}
     set_ = core_sim.build(g, s, FABRICS, [{}, {}], col)
-    assert set_.sim.self_collision["radius"] == pytest.approx(0.007)
+    sc = set_.sim.self_collision
+    assert sc["radius"] == pytest.approx(0.007) and (sc["static_friction"], sc["kinetic_friction"]) == (
+        pytest.approx(0.6), pytest.approx(0.4))
+    with pytest.raises(tailor.InvalidParameterError, match="cloth friction is static -0.1"):
+        core_sim.self_collision_args(core_sim.SimSettings(friction_static=-0.1))
     for bad in (float("nan"), -0.001):
         with pytest.raises(tailor.InvalidParameterError, match="self-collision radius"):
             core_sim.build(g, core_sim.SimSettings(self_collision=True, self_collision_radius=bad), FABRICS,
@@ -158,12 +167,13 @@ def test_file_extras_are_what_the_module_reads_back():
     pin = np.array([0.0, 1.0, 0.5], np.float32)
     maps = [{"pin": (pin, np.array([False, True, True]))}, {"collision_level": (np.array([3, 3], np.int32), np.ones(2, bool))}]
     body = np.array([0, 0, 1, 1, 0, 2], np.int32)
-    settings, params = core_sim.file_extras("coat", core_sim.SimSettings(self_collision=True, self_collision_radius=0.007),
-                                            fab, maps, body)
+    chosen = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007, friction_static=0.6)
+    settings, params = core_sim.file_extras("coat", chosen, fab, maps, body)
     s = settings["tailor_sample"]
     assert s["name"] == "coat" and s["fabric_per_piece"][1] == {"density": 0.3, "stretch": 900.0, "shear": 90.0,
                                                                 "bend": 5e-5}
     assert s["self_collision"] and s["self_collision_radius"] == 0.007 and s["thickness"] == 0.004
+    assert (s["friction_static"], s["friction_kinetic"]) == (0.6, 0.3)
     np.testing.assert_array_equal(garment_extras.decode_runs(s["collider_levels"]["runs"], 6), body)
     assert [(n, k, v.tolist()) for n, k, v in params] == [("pin", 0, [0.0, 1.0, 0.5]), ("collision_level", 1, [3, 3])]
     assert "collider_levels" not in core_sim.file_extras("coat", core_sim.SimSettings(), fab, [{}, {}], np.zeros(6))[0][

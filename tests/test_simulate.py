@@ -124,7 +124,8 @@ SAMPLES = Path(__file__).resolve().parents[1] / "sample_blends"
 def test_a_sample_garment_file_simulates_with_its_own_settings(tmp_path):
     """What the garment file records besides pieces and seams is used, as the add-on and the
     samples' checks use it: the T-shirt's painted shoulder pins ride on the character once every
-    seam has met; the layered outfit collides with itself (default sphere radius, 1 cm); flags
+    seam has met; the layered outfit collides with itself (default sphere radius, 5 mm on its 1 cm
+    mesh) with its fleece-on-jersey friction; flags
     override the file; values that no longer fit a re-triangulated garment are left out with a
     warning in the report."""
     character = SAMPLES / "character.glb"
@@ -138,7 +139,8 @@ def test_a_sample_garment_file_simulates_with_its_own_settings(tmp_path):
             "--thickness", "0.005")
     assert r.returncode == 0, r.stderr
     rep = json.loads(report.read_text())
-    assert rep["self_collision"] and rep["self_collision_radius_m"] == pytest.approx(0.01, rel=0.05)
+    assert rep["self_collision"] and rep["self_collision_radius_m"] == pytest.approx(0.005, rel=0.05)
+    assert rep["self_collision_friction"] == [pytest.approx(0.6), pytest.approx(0.4)]
     assert rep["thickness_m"] == pytest.approx(0.005) and "self-collision on" in r.stdout
     r = cli("simulate", SAMPLES / "tshirt.json", "--collider", character, "--frames", "1", "--report", report,
             "--edge", "0.03")

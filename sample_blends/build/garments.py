@@ -114,6 +114,9 @@ class Sample:
     # self-collision sphere radius, metres (0: the solver's half mean edge, 1 cm at 2 cm edges)
     self_collision_radius: float = 0.0
     thickness: float = 0.004
+    edge: float = 0.02  # piece resolution, metres
+    # the cloth's friction (static, kinetic): the Simulation panel's, also against itself
+    friction: tuple[float, float] = (0.5, 0.3)
 
 
 SHOULDERS = {"left_ftorso": 0.04, "right_ftorso": 0.04, "left_btorso": 0.04, "right_btorso": 0.04}
@@ -133,12 +136,17 @@ SAMPLES_SPEC = [
         [Layer("shirt_mean", JERSEY, (0.92, 0.92, 0.88), pins=SHOULDERS, wrap=True),
          Layer("hoody_mean", FLEECE, (0.20, 0.45, 0.30), push_out=0.03, pins=SHOULDERS, wrap=True)],
         self_collision=True,
-        # The solver's default sphere radius (half the mean edge: 1 cm). At 1 cm the hoody holds
-        # the shirt 2 cm off and the shirt's underarm seams flicker 1.5-5 mm open where the hoody
-        # presses them into the armpit; smaller spheres close them (widest gap at rest, median
-        # over 60 frames: 6 mm 1.38, 7 mm 0.51, 8 mm 1.03, 9 mm 1.96, 10 mm 3.01) but let the
-        # shirt show through the hoody at the shoulders and sides (7 and 8 mm, Workbench renders
-        # at rest; sample_blends/README.md), so the sample keeps the default.
+        # A 1 cm mesh and the solver's default spheres (half the mean edge: 5 mm). On the 2 cm
+        # mesh the 1 cm spheres held the shirt 2 cm under the hoody and pressed its underarm
+        # seams into the armpit, 1.5-5 mm open at rest; smaller spheres closed them (7 mm: 0.51
+        # mm) but no longer covered the 2 cm triangles, and the shirt showed through the hoody
+        # (Workbench renders at rest; sample_blends/README.md). At 1 cm: neither.
+        edge=0.01,
+        # Fleece on jersey grips (static 0.6, kinetic 0.4; the panel's default is 0.5 / 0.3 and
+        # the solver's own for cloth on cloth 0.3 / 0.2): with 0.3 / 0.2 the hoody's shoulder
+        # seams, dragged by the hood lying on the back, opened to 1.0 mm in one frame in 30 at
+        # rest; with 0.6 / 0.4 the widest gap over 66 frames at rest is 0.76 mm.
+        friction=(0.6, 0.4),
     ),
 ]
 # Body regions for collision levels: the bones whose skin weights (summed) exceed 0.5.
@@ -602,7 +610,8 @@ def export_garment(sample: Sample, path: Path, body) -> None:
     from tailor_addon.simulate import gather
 
     chosen = core_sim.SimSettings(thickness=sample.thickness, self_collision=sample.self_collision,
-                                  self_collision_radius=sample.self_collision_radius)
+                                  self_collision_radius=sample.self_collision_radius,
+                                  friction_static=sample.friction[0], friction_kinetic=sample.friction[1])
     settings, params = core_sim.file_extras(sample.name, chosen, gather.fabrics(objs), [painted_maps(o) for o in objs],
                                             scene_data.point_attribute(body.data, LEVEL_ATTR, np.int32))
     settings["tailor_sample"].update(character="character.glb", up="y")
@@ -660,6 +669,7 @@ def build(sample: Sample, edge: float) -> dict:
     s.thickness = sample.thickness
     s.self_collision = sample.self_collision
     s.self_collision_radius = sample.self_collision_radius
+    s.friction_static, s.friction_kinetic = sample.friction
     out = SAMPLES / f"{sample.name}.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(out), compress=True, relative_remap=True)
     export_garment(sample, SAMPLES / f"{sample.name}.json", body)
@@ -670,7 +680,7 @@ def build(sample: Sample, edge: float) -> dict:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--only", help="comma-separated sample names")
-    ap.add_argument("--edge", type=float, default=0.02, help="piece resolution, metres (default 2 cm)")
+    ap.add_argument("--edge", type=float, help="piece resolution, metres (default: each sample's own)")
     args = ap.parse_args(argv)
     import tailor_addon
 
@@ -680,7 +690,7 @@ def main(argv=None) -> int:
         wanted = set(args.only.split(",")) if args.only else None
         for sample in SAMPLES_SPEC:
             if wanted is None or sample.name in wanted:
-                build(sample, args.edge)
+                build(sample, args.edge or sample.edge)
     finally:
         tailor_addon.unregister()  # bpy 4.5 hangs at exit while operator classes are registered
     return 0

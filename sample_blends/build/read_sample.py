@@ -62,7 +62,8 @@ def main(blend: str, out: str) -> None:
     meta = {"seams": seams, "fabrics": fabrics, "pieces": [o.name for o in objs],
             "pose_position": bpy.data.objects["Rig"].data.pose_position, "frame_rate": scene.render.fps,
             "simulate": {k: getattr(scene.tailor_simulate, k) for k in ("thickness", "self_collision",
-                                                                       "self_collision_radius")}}
+                                                                       "self_collision_radius",
+                                                                       "friction_static", "friction_kinetic")}}
     np.savez(out, meta=json.dumps(meta), **arrays)
 
 

@@ -111,6 +111,8 @@ def walking_scene(name: str, blend_path: Path, frames: int = 24, preroll: int = 
     s.thickness = float(spec["thickness"])
     s.self_collision = bool(spec["self_collision"])
     s.self_collision_radius = float(spec.get("self_collision_radius", 0.0))
+    s.friction_static = float(spec.get("friction_static", s.friction_static))
+    s.friction_kinetic = float(spec.get("friction_kinetic", s.friction_kinetic))
     s.preroll, s.transition = preroll, transition
     s.use_scene_range = True
     scene.frame_start, scene.frame_end = start, start + frames - 1

@@ -103,6 +103,7 @@ def test_export_operator_writes_a_garment_file(scene, addon, tmp_path):
     front.vertex_groups.new(name="tailor_pin").add([0, 1, 2], 1.0, "REPLACE")
     s = scene.tailor_simulate
     s.thickness, s.self_collision, s.self_collision_radius = 0.005, True, 0.007
+    s.friction_static, s.friction_kinetic = 0.6, 0.4
     out = tmp_path / "skirt.json"
     assert bpy.ops.tailor.export_garment(filepath=str(out)) == {"FINISHED"}
     g = tailor.Garment.load(str(out))
@@ -113,6 +114,7 @@ def test_export_operator_writes_a_garment_file(scene, addon, tmp_path):
     assert stored["fabric_per_piece"][k]["stretch"] == pytest.approx(1234.0)
     assert stored["thickness"] == pytest.approx(0.005) and stored["self_collision"]
     assert stored["self_collision_radius"] == pytest.approx(0.007)
+    assert (stored["friction_static"], stored["friction_kinetic"]) == (pytest.approx(0.6), pytest.approx(0.4))
     pin = params["pin"][k]
     assert len(pin) == len(front.data.vertices) and np.flatnonzero(pin).tolist() == [0, 1, 2]
     bpy.ops.wm.read_homefile(use_empty=True)

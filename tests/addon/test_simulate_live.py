@@ -53,8 +53,8 @@ def test_live_follows_the_timeline_applies_edits_and_restores(addon, live_scene,
     assert live.SESSIONS[scene.name] is session and session.solver is solver
     assert session.fabrics[0].stretch == pieces[0].tailor_piece.stretch
     assert len(session.hard_pins) == len(pinned.data.vertices)
-    # ... a repainted Bend Scale map re-applies the fabric, and self-collision turned on at 7 mm
-    # reaches the solver.
+    # ... a repainted Bend Scale map re-applies the fabric, and self-collision turned on at 7 mm,
+    # with the cloth's friction, reaches the solver.
     applied = []
     monkeypatch.setattr(addon.core.simulate, "apply_fabric",
                         lambda *a, real=addon.core.simulate.apply_fabric: applied.append(real(*a)))
@@ -62,10 +62,12 @@ def test_live_follows_the_timeline_applies_edits_and_restores(addon, live_scene,
     bent.vertex_groups.new(name="tailor_bend_scale").add(list(range(len(bent.data.vertices))), 1.0, "REPLACE")
     scene.tailor_simulate.self_collision = True
     scene.tailor_simulate.self_collision_radius = 0.007
+    scene.tailor_simulate.friction_static = 0.65
     assert bpy.ops.tailor.live_step(count=live.MAPS_EVERY + 1, advance=True) == {"FINISHED"}
     assert len(applied) == 1 and "bend_scale" in session.maps[pieces.index(bent)]
     sc = solver.run.sim.self_collision
     assert sc["enabled"] and sc["radius_setting"] == pytest.approx(0.007) and sc["radius"] == pytest.approx(0.007)
+    assert sc["static_friction"] == pytest.approx(0.65)
     # Hard pins hold the painted vertices where the artist placed them.
     np.testing.assert_allclose(mesh_co(pinned), before[pinned.name], atol=1e-5)
     # Stopping puts every piece back as it was.

@@ -176,7 +176,8 @@ def file_extras(name: str, settings: SimSettings, fabrics: list[PieceFabric], ma
     form `tailor.commands.on_character.file_setup` (and so `python -m tailor simulate`) reads
     back: (settings, per-particle params) for `tailor.commands.garment_extras.add_extras`. The
     settings (under `tailor_sample`, the key the sample garments introduced): fabric per piece,
-    thickness, self-collision and its radius, and the collider's collision levels when painted;
+    thickness, self-collision and its radius, the cloth's friction, and the collider's collision
+    levels when painted;
     the params: painted pin weights (0 where unpainted) and collision levels per piece."""
     from tailor.commands import garment_extras
 
@@ -187,6 +188,8 @@ def file_extras(name: str, settings: SimSettings, fabrics: list[PieceFabric], ma
         "thickness": float(settings.thickness),
         "self_collision": bool(settings.self_collision),
         "self_collision_radius": float(settings.self_collision_radius),
+        "friction_static": float(settings.friction_static),
+        "friction_kinetic": float(settings.friction_kinetic),
     }
     if collider_levels is not None and np.any(collider_levels):
         sample["collider_levels"] = {"vertices": int(len(collider_levels)),
@@ -202,11 +205,17 @@ def file_extras(name: str, settings: SimSettings, fabrics: list[PieceFabric], ma
 
 
 def self_collision_args(settings: SimSettings) -> dict:
-    """`Simulation.set_self_collision`'s arguments for `settings` (radius None: automatic)."""
+    """`Simulation.set_self_collision`'s arguments for `settings` (radius None: automatic). The
+    cloth's friction (the panel's, where not painted) is also its friction against itself:
+    painted friction overrides it per particle (`apply_friction`)."""
     r = float(settings.self_collision_radius)
     if not (np.isfinite(r) and r >= 0.0):
         raise tailor.InvalidParameterError(f"self-collision radius is {r}: must be 0 (automatic) or a positive length")
-    return {"enabled": bool(settings.self_collision), "radius": r if r > 0.0 else None}
+    fs, fk = float(settings.friction_static), float(settings.friction_kinetic)
+    if not (np.isfinite(fs) and np.isfinite(fk) and fs >= 0.0 and fk >= 0.0):
+        raise tailor.InvalidParameterError(f"cloth friction is static {fs}, kinetic {fk}: must be non-negative")
+    return {"enabled": bool(settings.self_collision), "radius": r if r > 0.0 else None,
+            "static_friction": fs, "kinetic_friction": fk}
 
 
 def build(

@@ -166,7 +166,11 @@ def _apply_settings(sim, s: core_sim.SimSettings) -> None:
     sim.settings = s.to_tailor()
     sim.thickness = float(s.thickness)
     want = core_sim.self_collision_args(s)
-    if (sim.self_collision["enabled"], sim.self_collision["radius_setting"]) != (want["enabled"], want["radius"]):
+    have = sim.self_collision
+    # The solver keeps the frictions as float32.
+    if (have["enabled"], have["radius_setting"], have["static_friction"], have["kinetic_friction"]) != (
+            want["enabled"], want["radius"], float(np.float32(want["static_friction"])),
+            float(np.float32(want["kinetic_friction"]))):
         sim.set_self_collision(**want)
 
 

@@ -118,8 +118,8 @@ def file_setup(sim, garment, offsets, extras: dict, params: dict, collider: int,
                thickness: float | None = None, self_collision: bool | None = None) -> tuple[dict, ColliderPins, list]:
     """Applies to `sim` (built from `garment` with `base_fabric(extras)`, pieces starting at
     `offsets`) what a garment file records besides its pieces and seams (`garment_extras`):
-    fabric per piece, particles' collision levels, thickness, self-collision and its radius,
-    the collider's levels (mesh collider `collider`, of `collider_vertices` vertices), and the
+    fabric per piece, particles' collision levels, thickness, self-collision with its radius
+    and the cloth's friction against itself, the collider's levels (mesh collider `collider`, of `collider_vertices` vertices), and the
     painted pins, returned as `ColliderPins` riding on the collider once every seam has met
     (weight w at w x `ATTACH_STIFFNESS`, as the add-on's pin mode *Ride on Character*).
     `thickness` and `self_collision` override the file's when given. Per-particle values whose
@@ -162,7 +162,10 @@ def file_setup(sim, garment, offsets, extras: dict, params: dict, collider: int,
     sim.thickness = thickness  # write-only on the module's Simulation
     enabled = bool(self_collision if self_collision is not None else sample.get("self_collision", False))
     radius = float(sample.get("self_collision_radius", 0.0))  # 0: the solver's default
-    sim.set_self_collision(enabled=enabled, radius=radius if radius > 0 else None)
+    # The cloth's friction against itself (files from before it was recorded: the solver's).
+    friction = {k: float(sample[f]) for k, f in (("static_friction", "friction_static"),
+                                                  ("kinetic_friction", "friction_kinetic")) if f in sample}
+    sim.set_self_collision(enabled=enabled, radius=radius if radius > 0 else None, **friction)
     body_levels = sample.get("collider_levels")
     if body_levels and int(body_levels["vertices"]) != collider_vertices:
         warnings.append(f"the file's collider levels are for a mesh of {body_levels['vertices']} vertices, the "
@@ -174,6 +177,8 @@ def file_setup(sim, garment, offsets, extras: dict, params: dict, collider: int,
         "levels": sorted(set(int(x) for x in np.unique(levels))),
         "self_collision": enabled,
         "self_collision_radius_m": float(sim.self_collision["radius"]),
+        "self_collision_friction": [float(sim.self_collision["static_friction"]),
+                                    float(sim.self_collision["kinetic_friction"])],
         "thickness_m": thickness,
         "attached": int((pins > 0).sum()),
     }

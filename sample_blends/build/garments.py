@@ -59,6 +59,7 @@ import numpy as np
 import tailor
 from tailor.commands import garment_extras
 from tailor_addon.core.garment import SeamData
+from tailor_addon.core.simulate import SimSettings
 
 # GarmentCode and glTF are Y-up facing +Z; the character is Z-up facing -Y.
 Y_TO_Z = Matrix.Rotation(math.radians(90.0), 4, "X")
@@ -116,7 +117,7 @@ class Sample:
     thickness: float = 0.004
     edge: float = 0.02  # piece resolution, metres
     # the cloth's friction (static, kinetic): the Simulation panel's, also against itself
-    friction: tuple[float, float] = (0.5, 0.3)
+    friction: tuple[float, float] = (SimSettings.friction_static, SimSettings.friction_kinetic)
 
 
 SHOULDERS = {"left_ftorso": 0.04, "right_ftorso": 0.04, "left_btorso": 0.04, "right_btorso": 0.04}
@@ -144,8 +145,8 @@ SAMPLES_SPEC = [
         edge=0.01,
         # Fleece on jersey grips (static 0.6, kinetic 0.4; the panel's default is 0.5 / 0.3 and
         # the solver's own for cloth on cloth 0.3 / 0.2): with 0.3 / 0.2 the hoody's shoulder
-        # seams, dragged by the hood lying on the back, opened to 1.0 mm in one frame in 30 at
-        # rest; with 0.6 / 0.4 the widest gap over 66 frames at rest is 0.76 mm.
+        # seams, dragged by the hood lying on the back, opened to 1.0 mm in 2 frames of 66 at
+        # rest; with 0.6 / 0.4 the widest gap over those 66 frames is 0.76 mm.
         friction=(0.6, 0.4),
     ),
 ]
@@ -604,7 +605,6 @@ def export_garment(sample: Sample, path: Path, body) -> None:
     head["sidecar"] = {"file": bin_path.name, "bytes": len(garment_extras.MAGIC),
                        "fnv1a64": f"{garment_extras.fnv1a64(garment_extras.MAGIC):016x}"}
     tmp_manifest.write_text(json.dumps(head, indent=2))
-    # Fabric per piece and collision levels.
     # Fabric, painted pins and levels, the sample's settings: what the add-on's export writes.
     from tailor_addon.core import simulate as core_sim
     from tailor_addon.simulate import gather

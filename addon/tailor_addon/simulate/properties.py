@@ -20,6 +20,9 @@ from ..core.simulate import PRESETS, preset_values
 _SETTINGS = tailor.Settings()
 
 
+FRICTION_HELP = "The cloth's, where not painted: against itself (Self-Collision); painted values also against colliders"
+
+
 def _apply_preset(self, _context) -> None:
     if self.preset in PRESETS:
         v = preset_values(self.preset)
@@ -110,8 +113,9 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     seam_stiffness: FloatProperty(name="Seam Stiffness", description="N/m, times each seam's factor", min=0.0,
                                   default=1.0e4)
     seam_bend_stiffness: FloatProperty(name="Seam Bending", min=0.0, default=1e-5, precision=6)
-    friction_static: FloatProperty(name="Static Friction", description="Where not painted", min=0.0, default=0.5)
-    friction_kinetic: FloatProperty(name="Kinetic Friction", description="Where not painted", min=0.0, default=0.3)
+    # The cloth's friction (core.simulate.self_collision_args, apply_friction).
+    friction_static: FloatProperty(name="Static Friction", description=FRICTION_HELP, min=0.0, default=0.5)
+    friction_kinetic: FloatProperty(name="Kinetic Friction", description=FRICTION_HELP, min=0.0, default=0.3)
     pin_mode: EnumProperty(
         name="Pins",
         items=(

@@ -119,8 +119,8 @@ def file_setup(sim, garment, offsets, extras: dict, params: dict, collider: int,
     """Applies to `sim` (built from `garment` with `base_fabric(extras)`, pieces starting at
     `offsets`) what a garment file records besides its pieces and seams (`garment_extras`):
     fabric per piece, particles' collision levels, thickness, self-collision with its radius
-    and the cloth's friction against itself, the collider's levels (mesh collider `collider`, of `collider_vertices` vertices), and the
-    painted pins, returned as `ColliderPins` riding on the collider once every seam has met
+    and the cloth's friction against itself, the collider's levels (mesh collider `collider`,
+    of `collider_vertices` vertices), and the painted pins, returned as `ColliderPins` riding on the collider once every seam has met
     (weight w at w x `ATTACH_STIFFNESS`, as the add-on's pin mode *Ride on Character*).
     `thickness` and `self_collision` override the file's when given. Per-particle values whose
     piece has another vertex count (the garment re-triangulated since) and collider levels for

@@ -11,8 +11,8 @@ and a summary of the same fields (worst case over the frames, mean frame time).
 
 What the garment file records besides its pieces and seams is used as the samples and the
 add-on use it (`tailor.commands.on_character.file_setup`): fabric per piece, collision levels of
-the particles and of the collider, thickness, self-collision and its radius, and painted pins,
-which ride on the collider once every seam has met. ``--thickness`` and ``--self-collision``
+the particles and of the collider, thickness, self-collision with its radius and the cloth's
+friction against itself, and painted pins, which ride on the collider once every seam has met. ``--thickness`` and ``--self-collision``
 override the file's.
 """
 

@@ -48,6 +48,7 @@ class Settings:
     ramp_closing_damping: float
     ramp_gap_threshold: float
     ramp_closed_fraction: float
+    ramp_release_gap: float
     ramp_release_time: float
     ramp_closing_speed: float
     ramp_closing_gravity: float

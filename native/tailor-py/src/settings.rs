@@ -63,6 +63,8 @@ pub struct Settings {
     pub ramp_closing_damping: f32,
     pub ramp_gap_threshold: f32,
     pub ramp_closed_fraction: f32,
+    /// The widest seam pair must be within this (m) for the release, too.
+    pub ramp_release_gap: f32,
     pub ramp_release_time: f32,
     /// Speed at which sewn points are drawn together, m/s (0 = at once).
     pub ramp_closing_speed: f32,
@@ -126,6 +128,7 @@ impl From<&core::SolverSettings> for Settings {
             ramp_closing_damping: s.ramp.closing_damping,
             ramp_gap_threshold: s.ramp.gap_threshold,
             ramp_closed_fraction: s.ramp.closed_fraction,
+            ramp_release_gap: s.ramp.release_gap,
             ramp_release_time: s.ramp.release_time,
             ramp_closing_speed: s.ramp.closing_speed,
             ramp_closing_gravity: s.ramp.closing_gravity,
@@ -150,6 +153,7 @@ impl Settings {
                 closing_damping: self.ramp_closing_damping,
                 gap_threshold: self.ramp_gap_threshold,
                 closed_fraction: self.ramp_closed_fraction,
+                release_gap: self.ramp_release_gap,
                 release_time: self.ramp_release_time,
                 closing_speed: self.ramp_closing_speed,
                 closing_gravity: self.ramp_closing_gravity,

@@ -1092,7 +1092,7 @@ impl GpuSolver {
             residual: state.residual,
             colours: n_colours,
             rho: if accelerate { rho } else { 0.0 },
-            damping: Ramp { phase }.damping(sim.settings()),
+            damping: Ramp { phase, stall: None }.damping(sim.settings()),
             ramp_phase: phase,
             seam_gap_max: state.gap_max,
             seam_closed_fraction: state.closed_fraction,

@@ -131,10 +131,11 @@ impl Solver {
     /// Advances by `dt` seconds on the active backend.
     pub fn step(&mut self, dt: f32) -> Result<StepStats> {
         #[cfg(feature = "gpu")]
-        if self.gpu.is_some() && (self.sim.seams_closing() || self.sim.gravity_scale() != 1.0) {
-            // Closing seams change their rest lengths every substep, and gravity is held while
-            // they close; those frames run on the CPU and the GPU takes over (re-uploaded by
-            // `edit`) once every seam has closed and gravity is whole.
+        if self.gpu.is_some() && (self.sim.seams_closing() || self.sim.ramp_closing()) {
+            // Closing seams change their rest lengths every substep, gravity is held while
+            // they close and the ramp's release is measured on the CPU (`damping`); those
+            // frames run on the CPU and the GPU takes over (re-uploaded by `edit`) from the
+            // release on.
             let mut st = self.edit(|sim| sim.step(dt))?;
             st.warning = self.warning.clone();
             return Ok(st);

@@ -24,7 +24,7 @@ use super::chebyshev::Chebyshev;
 use super::collide::{Collisions, MESH_CONTACT};
 use super::constraints::{Attachment, Seam};
 use super::contacts::{coulomb, resolve_penetrations, ContactSet, ImplicitCollider};
-use super::damping::{decay, Ramp};
+use super::damping::{decay, Ramp, SeamGaps};
 use super::global::{unpack, unpack_extrapolated, GlobalSystem, SweepNorms};
 use super::local::project_all;
 use super::model::Model;
@@ -64,6 +64,8 @@ pub struct Simulation {
     pub(crate) h_prepared: f32,
     /// Some seam pair still has a non-zero closing rest length.
     seams_closing: bool,
+    /// Each seam pair's gap when it was added, m (the closing schedule's measure).
+    closing_gap0: Vec<f32>,
     pub(crate) sleep: Sleep,
     /// `‖M·g‖` over the free particles, N: the force scale of the early-termination test.
     weight_norm: f64,
@@ -120,6 +122,7 @@ impl Simulation {
             free: Vec::new(),
             h_prepared: 0.0,
             seams_closing: false,
+            closing_gap0: Vec::new(),
             sleep: Sleep::default(),
             weight_norm: 0.0,
             time: 0.0,
@@ -147,6 +150,14 @@ impl Simulation {
     /// Whether some seam is still being drawn together at `ramp.closing_speed`.
     pub fn seams_closing(&self) -> bool {
         self.seams_closing
+    }
+
+    /// Whether the seam-closing ramp is still waiting for the seams to meet (enabled, with
+    /// seams, phase `Closing`).
+    pub fn ramp_closing(&self) -> bool {
+        self.settings.ramp.enabled
+            && !self.model.seam_pairs.is_empty()
+            && self.ramp.phase == super::damping::RampPhase::Closing
     }
 
     /// Factor on gravity in effect now (`ramp.closing_gravity` while seams close, else 1).
@@ -260,6 +271,10 @@ impl Simulation {
                 let gap = pairs.vector(s, &self.x).length();
                 pairs.rest[s] = if gap > super::constraints::stencil::FLAT_REST { gap } else { 0.0 };
                 self.seams_closing |= pairs.rest[s] > 0.0;
+            }
+            self.closing_gap0.resize(pairs.len(), 0.0);
+            for s in first..pairs.len() {
+                self.closing_gap0[s] = pairs.rest[s];
             }
         }
         self.collide.invalidate_topology();
@@ -491,15 +506,25 @@ impl Simulation {
     }
 
     /// Prediction stage: `y`, pins, initial guess, fixed right-hand side.
-    /// Shrinks the rest length of seam pairs that are still closing by `closing_speed·h`
-    /// (never above the current gap, so a pair that closed faster is not pushed apart).
+    /// Shrinks the rest length of seam pairs that are still closing: the widest pair (by its
+    /// gap when it was sewn) by `closing_speed·h`, every other pair by its share of that, so
+    /// all pairs meet together (never above the current gap, so a pair that closed faster is
+    /// not pushed apart). See `SeamRamp::closing_speed` for why all at once.
     fn close_seams(&mut self, h: f32) {
-        let step = if self.settings.ramp.enabled { self.settings.ramp.closing_speed * h } else { f32::INFINITY };
+        let speed = if self.settings.ramp.enabled { self.settings.ramp.closing_speed } else { f32::INFINITY };
+        // The widest pair still closing goes at `closing_speed`, every other in proportion to
+        // its own gap.
         let pairs = &mut self.model.seam_pairs;
+        let gap0 = |s: usize| self.closing_gap0.get(s).copied().unwrap_or(0.0);
+        let widest = (0..pairs.len())
+            .filter(|&s| pairs.rest[s] > 0.0)
+            .map(|s| gap0(s).max(pairs.rest[s]))
+            .fold(f32::MIN_POSITIVE, f32::max);
         let mut open = false;
         for s in 0..pairs.len() {
             if pairs.rest[s] > 0.0 {
                 let gap = pairs.vector(s, &self.x).length();
+                let step = speed * h * (gap0(s).max(pairs.rest[s]) / widest);
                 pairs.rest[s] = (pairs.rest[s].min(gap) - step).max(0.0);
                 open |= pairs.rest[s] > 0.0;
             }
@@ -664,8 +689,9 @@ impl Simulation {
             }
             self.v.set(i, v * damping);
         }
-        let (_, frac) = self.seam_gaps();
-        self.ramp.advance(&self.settings, frac, !self.model.seam_pairs.is_empty(), h);
+        let (widest, frac) = self.seam_gaps();
+        let gaps = SeamGaps { widest, closed_fraction: frac, scheduled: !self.seams_closing };
+        self.ramp.advance(&self.settings, gaps, !self.model.seam_pairs.is_empty(), h);
         self.time += h as f64;
     }
 }

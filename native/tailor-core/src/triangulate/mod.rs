@@ -27,13 +27,17 @@ mod cdt;
 mod checks;
 mod constraints;
 mod contour;
+mod corners;
 mod fill;
+mod lines;
 mod options;
 mod piece_mesh;
 mod pins;
 mod quality;
 pub(crate) mod resample;
 
+pub use corners::{input_corners, sharpest_input_corner_deg, unexcused_angles, InputCorner};
+pub use lines::snap_tolerance;
 pub use options::TriangulateOptions;
 pub use piece_mesh::PieceMesh;
 pub use quality::MeshQuality;
@@ -48,12 +52,15 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
     options.validate()?;
     let h = options.edge_length;
     checks::validate_piece(piece, h)?;
+    // Line ends and notches near the outline snapped onto it, lines leaving the piece clipped.
+    let (attached, origin, warnings) = lines::attach_lines(piece, options);
+    let piece = &attached;
     // Pins closer than eps merge; line ends within snap of the outline or a hole attach to it.
     let eps = 1e-9;
     let snap = (1e-3 * h).max(1e-6);
     let outline = &piece.outline;
     let m = outline.len();
-    let pins = pins::gather(piece, options, snap)?;
+    let pins = pins::gather(piece, options, snap, &origin)?;
     let (cum, sharp, notch_s, line_ends) = (&pins.cum, &pins.sharp, &pins.notches, &pins.line_ends);
 
     let r_out = resample(outline, true, pins.outline.clone(), h, eps);
@@ -137,6 +144,7 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
         notch_map,
         outline_map,
         quality,
+        warnings,
     })
 }
 

@@ -381,3 +381,19 @@ fn every_garmentcode_pattern_builds_and_the_pencil_dress_closes_untwisted() {
     // stretches edges far beyond this.
     assert!(strain < 0.3, "max edge strain {strain}");
 }
+
+#[test]
+fn a_degenerate_triangle_names_its_piece() {
+    let (_, mut meshes) = garmentcode("flare_skirt_specification.json", 0.03);
+    // Collapse one triangle of the second piece onto a line.
+    let t = meshes[1].triangles[5];
+    meshes[1].rest[t[2] as usize] = meshes[1].rest[t[0] as usize];
+    let positions: Vec<Vec<[f32; 3]>> =
+        meshes.iter().map(|m| m.rest.iter().map(|r| [r[0], r[1], 0.0]).collect()).collect();
+    let e = tailor_core::seam::sew(&meshes, &positions, &[]).unwrap_err();
+    let name = &meshes[1].name;
+    assert!(
+        matches!(e, tailor_core::TailorError::DegenerateTriangle { ref reason, .. } if reason.contains(&format!("of piece {name}"))),
+        "{e}"
+    );
+}

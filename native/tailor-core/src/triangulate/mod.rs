@@ -4,7 +4,10 @@
 //! resolution", Sec. 4): silk wants small `h`, denim a larger one. The stages:
 //!
 //! 0. `checks`: the piece is validated (counts, finite coordinates, counter-clockwise outline,
-//!    holes inside it, a sane vertex budget).
+//!    holes inside it, a sane vertex budget); `lines`: internal-line ends and notches within
+//!    [`snap_tolerance`] of the outline are snapped onto it (onto a pin there when one is that
+//!    near), lines leaving the piece are clipped, and each clip or drop is a warning
+//!    ([`PieceMesh::warnings`]).
 //! 1. `pins` and `resample`: the outline, each hole and each internal line are resampled at
 //!    `h` by arc length between *pins*: the piece's fixed vertices, the ends of its named edges
 //!    (stitch spans), notches, vertices where the outline turns by at least `corner_turn_deg`,

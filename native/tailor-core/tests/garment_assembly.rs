@@ -231,7 +231,7 @@ fn bad_stitches_and_pieces_are_errors() {
 }
 
 #[test]
-fn an_internal_line_that_leaves_its_piece_is_dropped_with_a_warning() {
+fn an_internal_line_that_leaves_its_piece_is_clipped_with_a_warning() {
     let mut bad = rectangle("panel", 0.3, 0.4);
     bad.internal_lines = vec![vec![[0.1, 0.2], [0.2, 0.2]], vec![[0.1, 0.1], [0.5, 0.1]]];
     let pattern = tailor_core::pattern::Pattern {
@@ -243,11 +243,17 @@ fn an_internal_line_that_leaves_its_piece_is_dropped_with_a_warning() {
     };
     let (g, meshes) = garment_from_pattern(&pattern, &TriangulateOptions::new(0.03)).unwrap();
     assert_eq!(meshes.len(), 2);
-    // Only the line that leaves the piece is dropped.
-    assert_eq!(g.pieces[0].source.internal_lines, vec![vec![[0.1, 0.2], [0.2, 0.2]]]);
+    // The line that leaves the piece by 20 cm is clipped at the outline, not dropped: the
+    // piece keeps both lines, the mesh has an edge along the clipped one up to the outline.
+    assert_eq!(g.pieces[0].source.internal_lines.len(), 2);
     let w = import_warnings(&g);
     assert_eq!(w.len(), 1);
-    assert!(w[0].contains("panel") && w[0].contains("[1] of 2 dropped"), "{w:?}");
+    assert!(w[0].contains("panel") && w[0].contains("internal line 1") && w[0].contains("clipped"), "{w:?}");
+    let m = &meshes[0];
+    assert!(m
+        .contour
+        .iter()
+        .any(|&v| (m.rest[v as usize][0] - 0.3).abs() < 1e-6 && (m.rest[v as usize][1] - 0.1).abs() < 1e-6));
     // The stored piece rebuilds the same mesh.
     assert_eq!(triangulate_all(&g).unwrap(), meshes);
     // A piece that fails for another reason is still an error.
@@ -374,4 +380,20 @@ fn every_garmentcode_pattern_builds_and_the_pencil_dress_closes_untwisted() {
     // A seam sewn in the wrong direction closes only by crossing the pieces over, which
     // stretches edges far beyond this.
     assert!(strain < 0.3, "max edge strain {strain}");
+}
+
+#[test]
+fn a_degenerate_triangle_names_its_piece() {
+    let (_, mut meshes) = garmentcode("flare_skirt_specification.json", 0.03);
+    // Collapse one triangle of the second piece onto a line.
+    let t = meshes[1].triangles[5];
+    meshes[1].rest[t[2] as usize] = meshes[1].rest[t[0] as usize];
+    let positions: Vec<Vec<[f32; 3]>> =
+        meshes.iter().map(|m| m.rest.iter().map(|r| [r[0], r[1], 0.0]).collect()).collect();
+    let e = tailor_core::seam::sew(&meshes, &positions, &[]).unwrap_err();
+    let name = &meshes[1].name;
+    assert!(
+        matches!(e, tailor_core::TailorError::DegenerateTriangle { ref reason, .. } if reason.contains(&format!("of piece {name}"))),
+        "{e}"
+    );
 }

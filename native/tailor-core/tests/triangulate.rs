@@ -199,14 +199,13 @@ fn bad_input_is_an_error_naming_the_piece() {
         Err(TailorError::NonFinite { index: 2, .. })
     ));
 
+    // Lines that leave the piece are clipped at the outline (a warning names them), not refused.
     for line in [vec![[0.1, 0.1], [0.3, 0.1]], vec![[0.1, 0.1], [0.1, 0.3], [0.15, 0.1]]] {
         let mut crossing = p.clone();
         crossing.internal_lines = vec![line];
-        let e = triangulate_piece(&crossing, &TriangulateOptions::new(0.02)).unwrap_err();
-        assert!(
-            matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("internal line 0")),
-            "{e}"
-        );
+        let m = triangulate_piece(&crossing, &TriangulateOptions::new(0.02)).unwrap();
+        assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
+        assert!(m.warnings[0].contains("piece r: internal line 0") && m.warnings[0].contains("clipped"));
     }
     let mut outside = p.clone();
     outside.holes = vec![vec![[0.15, 0.15], [0.15, 0.25], [0.25, 0.25], [0.25, 0.15]]];
@@ -217,10 +216,11 @@ fn bad_input_is_an_error_naming_the_piece() {
     bowtie.fixed_vertices.clear();
     let e = triangulate_piece(&bowtie, &TriangulateOptions::new(0.02)).unwrap_err();
     assert!(matches!(e, TailorError::ShapeMismatch { .. }), "{e}");
+    // Two internal lines crossing each other are split where they cross.
     let mut through = p.clone();
     through.internal_lines = vec![vec![[0.05, 0.05], [0.15, 0.15]], vec![[0.05, 0.15], [0.15, 0.05]]];
-    let e = triangulate_piece(&through, &TriangulateOptions::new(0.02)).unwrap_err();
-    assert!(matches!(e, TailorError::ShapeMismatch { ref reason, .. } if reason.contains("cross")), "{e}");
+    let m = triangulate_piece(&through, &TriangulateOptions::new(0.02)).unwrap();
+    assert!(m.rest.iter().any(|r| close(*r, [0.1, 0.1])) && m.warnings.is_empty());
 }
 
 #[test]
@@ -238,4 +238,70 @@ fn dart_piece_keeps_its_dart_and_is_deterministic() {
     let again = triangulate_piece(&p, &TriangulateOptions::new(0.02)).unwrap();
     assert_eq!((&again.rest, &again.triangles, &again.contour), (&m.rest, &m.triangles, &m.contour));
     assert_eq!(again, m);
+}
+
+/// A 0.4 × 0.3 rectangle whose bottom edge has a fixed vertex at its middle, (0.2, 0).
+fn notched_rectangle(name: &str) -> Piece {
+    let mut p = piece(name, vec![[0.0, 0.0], [0.2, 0.0], [0.4, 0.0], [0.4, 0.3], [0.0, 0.3]], vec![0, 1, 2, 3, 4]);
+    p.edges = (0..5).map(|i| tailor_core::pattern::OutlineSpan { start: i, end: (i + 1) % 5 }).collect();
+    p
+}
+
+/// Asserts the mesh keeps its minimum angle everywhere no input corner excuses, and that it
+/// has a contour vertex at `at`.
+fn check_line_mesh(p: &Piece, m: &PieceMesh, at: Point2) {
+    let o = TriangulateOptions::new(0.02);
+    let bad = tailor_core::triangulate::unexcused_angles(m, p, &o);
+    assert!(bad.is_empty(), "{}: angles below {}: {bad:?}", p.name, o.min_angle_deg);
+    assert!(m.quality.min_angle_deg >= o.min_angle_deg - 1e-3, "{}: {}", p.name, m.quality.min_angle_deg);
+    assert!(m.contour.iter().any(|&v| close(m.rest[v as usize], at)), "{}: no contour vertex at {at:?}", p.name);
+}
+
+#[test]
+fn a_line_ending_a_hair_from_an_outline_vertex_is_snapped_onto_it() {
+    // CLO's DXF: a line end 1e-7 m from an outline vertex left a 0.001° sliver between the
+    // two pins; now the end moves onto the vertex.
+    let mut p = notched_rectangle("hair");
+    p.internal_lines = vec![vec![[0.2 + 1e-7, 1e-7], [0.2, 0.15]]];
+    let m = mesh(&p, 0.02);
+    assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+    check_line_mesh(&p, &m, [0.2, 0.0]);
+    assert_eq!(m.rest.iter().filter(|r| (r[0] - 0.2).abs() < 1e-3 && r[1].abs() < 1e-3).count(), 1);
+}
+
+#[test]
+fn a_line_overshooting_the_outline_by_a_millimetre_is_kept() {
+    let mut p = notched_rectangle("overshoot");
+    p.internal_lines = vec![vec![[0.1, 0.15], [0.1, -0.001]], vec![[0.3, 0.301], [0.3, 0.15]]];
+    let m = mesh(&p, 0.02);
+    assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+    check_line_mesh(&p, &m, [0.1, 0.0]);
+    check_line_mesh(&p, &m, [0.3, 0.3]);
+    // The line is a chain of mesh edges from (0.1, 0) to (0.1, 0.15).
+    let on = |v: u32| (m.rest[v as usize][0] - 0.1).abs() < 1e-6 && m.rest[v as usize][1] <= 0.15 + 1e-6;
+    let covered: f64 = m
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .filter(|&(a, b)| on(a) && on(b))
+        .map(|(a, b)| dist(m.rest[a as usize], m.rest[b as usize]))
+        .sum();
+    assert!((covered - 0.15).abs() < 1e-5, "line covered {covered} of 0.15");
+}
+
+#[test]
+fn a_line_leaving_the_piece_is_clipped_with_a_warning_naming_it() {
+    let mut p = notched_rectangle("leaver");
+    p.internal_lines = vec![vec![[0.1, 0.2], [0.2, 0.2]], vec![[0.25, 0.12], [0.45, 0.12]]];
+    let m = mesh(&p, 0.02);
+    assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
+    let w = &m.warnings[0];
+    assert!(w.contains("piece leaver: internal line 1 leaves the piece (by up to 50.0 mm); clipped"), "{w}");
+    check_line_mesh(&p, &m, [0.4, 0.12]);
+    // Nothing left inside: dropped, still with a warning.
+    p.internal_lines = vec![vec![[0.5, 0.1], [0.6, 0.1]]];
+    let m = mesh(&p, 0.02);
+    assert!(m.warnings.len() == 1 && m.warnings[0].contains("internal line 0 dropped"), "{:?}", m.warnings);
 }

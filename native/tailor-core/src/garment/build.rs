@@ -116,7 +116,8 @@ pub fn build_simulation(
     options: &BuildOptions,
 ) -> Result<(Simulation, SolverInput)> {
     let input = solver_input(garment, triangulate_all(garment)?, options)?;
-    let mut sim = Simulation::new(input.sewn.mesh.clone(), fabric, settings)?;
+    let mut sim = Simulation::new(input.sewn.mesh.clone(), fabric, settings)
+        .map_err(|e| crate::seam::assemble::name_piece(e, &input.meshes))?;
     for seam in &input.seams {
         sim.add_seam(seam.clone())?;
     }

@@ -46,7 +46,7 @@ pub fn sew(meshes: &[PieceMesh], positions: &[Vec<[f32; 3]>], seams: &[Seam]) ->
         rest.extend_from_slice(&m.rest);
         tris.extend(m.triangles.iter().map(|t| t.map(|v| v + off)));
     }
-    let mesh = ClothMesh::new(pos, rest, tris)?;
+    let mesh = ClothMesh::new(pos, rest, tris).map_err(|e| name_piece(e, meshes))?;
     let mut out = SewnGarment {
         mesh,
         offsets,
@@ -67,4 +67,26 @@ pub fn sew(meshes: &[PieceMesh], positions: &[Vec<[f32; 3]>], seams: &[Seam]) ->
         out.hinges.extend(hinges.into_iter().map(|h| h.offset(oa, ob)));
     }
     Ok(out)
+}
+
+/// A [`TailorError::DegenerateTriangle`] about the sewn cloth (triangles of `meshes` in order)
+/// with the piece and its own triangle index added to the reason; other errors unchanged.
+pub fn name_piece(e: TailorError, meshes: &[PieceMesh]) -> TailorError {
+    match e {
+        TailorError::DegenerateTriangle { triangle, reason } => {
+            let mut first = 0;
+            for m in meshes {
+                if triangle < first + m.triangles.len() {
+                    let local = triangle - first;
+                    return TailorError::DegenerateTriangle {
+                        triangle,
+                        reason: format!("{reason} (triangle {local} of piece {})", m.name),
+                    };
+                }
+                first += m.triangles.len();
+            }
+            TailorError::DegenerateTriangle { triangle, reason }
+        }
+        other => other,
+    }
 }

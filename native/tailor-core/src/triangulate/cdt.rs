@@ -84,12 +84,15 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
         .exclude_outer_faces(true);
     let result = cdt.refine(params);
 
+    // Internal lines crossing each other (a grain line over a balance line) are split where
+    // they cross; the crossing becomes a vertex.
     for &[a, b] in &input.line_edges {
         let (fa, fb) = (FixedVertexHandle::from_index(a), FixedVertexHandle::from_index(b));
-        if !cdt.can_add_constraint(fa, fb) {
-            return Err(crossing([a, b]));
+        if cdt.can_add_constraint(fa, fb) {
+            cdt.add_constraint(fa, fb);
+        } else {
+            cdt.add_constraint_and_split(fa, fb, |p| p);
         }
-        cdt.add_constraint(fa, fb);
     }
 
     let points: Vec<Point2> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();

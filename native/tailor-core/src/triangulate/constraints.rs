@@ -38,6 +38,10 @@ pub(crate) fn build(
         push_loop(&mut loop_edges, points.len(), r.points.len());
         points.extend_from_slice(&r.points);
     }
+    // Free line points by position, so that lines meeting inside the piece (a dart's legs at its
+    // tip, a grid of construction lines) share one vertex instead of two coinciding ones.
+    let key = |p: Point2| ((p[0] / eps).round() as i64, (p[1] / eps).round() as i64);
+    let mut free: std::collections::HashMap<(i64, i64), usize> = std::collections::HashMap::new();
     for (line, ends) in piece.internal_lines.iter().zip(line_ends) {
         let lp = sharp_vertices(line, false, turn_deg);
         let lc = arc_lengths(line, false);
@@ -54,10 +58,10 @@ pub(crate) fn build(
             let id = match end {
                 Some(Attach::Outline(s)) => pin_point(r_out, s),
                 Some(Attach::Hole(k, s)) => hole_start[k] + pin_point(&r_holes[k], s),
-                _ => {
+                _ => *free.entry(key(p)).or_insert_with(|| {
                     points.push(p);
                     points.len() - 1
-                }
+                }),
             };
             ids.push(id);
         }

@@ -4,7 +4,10 @@
 //! resolution", Sec. 4): silk wants small `h`, denim a larger one. The stages:
 //!
 //! 0. `checks`: the piece is validated (counts, finite coordinates, counter-clockwise outline,
-//!    holes inside it, a sane vertex budget).
+//!    holes inside it, a sane vertex budget); `lines`: internal-line ends and notches within
+//!    [`snap_tolerance`] of the outline are snapped onto it (onto a pin there when one is that
+//!    near), lines leaving the piece are clipped, and each clip or drop is a warning
+//!    ([`PieceMesh::warnings`]).
 //! 1. `pins` and `resample`: the outline, each hole and each internal line are resampled at
 //!    `h` by arc length between *pins*: the piece's fixed vertices, the ends of its named edges
 //!    (stitch spans), notches, vertices where the outline turns by at least `corner_turn_deg`,
@@ -27,13 +30,17 @@ mod cdt;
 mod checks;
 mod constraints;
 mod contour;
+mod corners;
 mod fill;
+mod lines;
 mod options;
 mod piece_mesh;
 mod pins;
 mod quality;
 pub(crate) mod resample;
 
+pub use corners::{input_corners, sharpest_input_corner_deg, unexcused_angles, InputCorner};
+pub use lines::snap_tolerance;
 pub use options::TriangulateOptions;
 pub use piece_mesh::PieceMesh;
 pub use quality::MeshQuality;
@@ -48,12 +55,15 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
     options.validate()?;
     let h = options.edge_length;
     checks::validate_piece(piece, h)?;
+    // Line ends and notches near the outline snapped onto it, lines leaving the piece clipped.
+    let (attached, origin, warnings) = lines::attach_lines(piece, options);
+    let piece = &attached;
     // Pins closer than eps merge; line ends within snap of the outline or a hole attach to it.
     let eps = 1e-9;
     let snap = (1e-3 * h).max(1e-6);
     let outline = &piece.outline;
     let m = outline.len();
-    let pins = pins::gather(piece, options, snap)?;
+    let pins = pins::gather(piece, options, snap, &origin)?;
     let (cum, sharp, notch_s, line_ends) = (&pins.cum, &pins.sharp, &pins.notches, &pins.line_ends);
 
     let r_out = resample(outline, true, pins.outline.clone(), h, eps);
@@ -137,6 +147,7 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
         notch_map,
         outline_map,
         quality,
+        warnings,
     })
 }
 

@@ -9,8 +9,12 @@ use crate::error::{Result, TailorError};
 pub struct TriangulateOptions {
     /// Target edge length `h`, metres (the resolution).
     pub edge_length: f64,
-    /// Minimum triangle angle refinement enforces, degrees (at most 33; input angles smaller
-    /// than this between outline segments cannot be improved).
+    /// Minimum triangle angle refinement aims for, degrees (at most 33). The exception is an
+    /// *input corner* sharper than this: a point where outline, hole or internal-line segments
+    /// meet at a smaller angle inside the piece; a triangle's angle at such a point may be as
+    /// small as the corner's ([`unexcused_angles`](super::unexcused_angles) lists every other
+    /// angle below it; `examples/min_angles.rs` prints them per file, docs/user-guide.md has
+    /// the figures, and where it does not hold yet).
     pub min_angle_deg: f64,
     /// Outline, hole and internal-line vertices where the direction turns by at least this many
     /// degrees are kept as vertices (so a 90° corner of an unmarked outline stays sharp).

@@ -33,6 +33,11 @@ pub struct PieceMesh {
     /// Contour position nearest (by arc length) to each `Piece::outline` point; exact for pins.
     pub outline_map: Vec<usize>,
     pub quality: MeshQuality,
+    /// What triangulation had to change in the piece's internal lines: one line per line
+    /// clipped at the outline or dropped (see `triangulate::snap_tolerance`); empty when
+    /// nothing was.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 impl PieceMesh {

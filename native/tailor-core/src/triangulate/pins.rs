@@ -28,7 +28,8 @@ pub(crate) struct Pins {
 }
 
 /// Gathers the pins: fixed vertices, span ends, sharp vertices, notches, attached line ends.
-pub(crate) fn gather(piece: &Piece, options: &TriangulateOptions, snap: f64) -> Result<Pins> {
+/// `origin[k]` is the index in the input piece of internal line `k` (for error messages).
+pub(crate) fn gather(piece: &Piece, options: &TriangulateOptions, snap: f64, origin: &[usize]) -> Result<Pins> {
     let (outline, h) = (&piece.outline, options.edge_length);
     let m = outline.len();
     let cum = arc_lengths(outline, true);
@@ -81,7 +82,7 @@ pub(crate) fn gather(piece: &Piece, options: &TriangulateOptions, snap: f64) -> 
     };
     let line_ends: Vec<[Attach; 2]> =
         piece.internal_lines.iter().map(|l| [attach(l[0]), attach(l[l.len() - 1])]).collect();
-    check_lines_inside(piece, &line_ends, snap)?;
+    check_lines_inside(piece, &line_ends, snap, origin)?;
     for a in line_ends.iter().flatten() {
         match *a {
             Attach::Outline(s) => pins.push(s),
@@ -94,10 +95,15 @@ pub(crate) fn gather(piece: &Piece, options: &TriangulateOptions, snap: f64) -> 
 
 /// Internal lines must stay inside the piece: every point not snapped to the outline or a hole
 /// strictly inside, and no segment crossing the outline or a hole.
-fn check_lines_inside(piece: &Piece, ends: &[[Attach; 2]], snap: f64) -> Result<()> {
+fn check_lines_inside(piece: &Piece, ends: &[[Attach; 2]], snap: f64, origin: &[usize]) -> Result<()> {
     let loops: Vec<&Vec<Point2>> = std::iter::once(&piece.outline).chain(&piece.holes).collect();
     for (k, line) in piece.internal_lines.iter().enumerate() {
-        let err = |what: &str| TailorError::shape(format!("piece {}", piece.name), format!("internal line {k} {what}"));
+        let err = |what: &str| {
+            TailorError::shape(
+                format!("piece {}", piece.name),
+                format!("internal line {} {what}", origin.get(k).copied().unwrap_or(k)),
+            )
+        };
         for (j, &p) in line.iter().enumerate() {
             let snapped = (j == 0 && !matches!(ends[k][0], Attach::Free))
                 || (j + 1 == line.len() && !matches!(ends[k][1], Attach::Free));

@@ -145,3 +145,47 @@ def test_collider_pins_wait_for_every_seam_but_not_past_the_ramp(tube):
     assert not pins.after_frame(sim, "closing") and not pins.after_frame(sim, "releasing")
     assert len(sim.collider_attached) == 0
     assert pins.after_frame(sim, "done") and sorted(sim.collider_attached.tolist()) == [0, 1, 2, 3]
+
+
+def test_records_judge_the_garment_on_the_body_and_the_summary_gives_the_verdict(square):
+    """A cloth resting on a box passes; pushed a metre off it (the box moved away, the cloth
+    left behind) the records say it fell, and the summary names the check with its first frame;
+    the worst on-body figures are over the judged (assembled) frames only."""
+    run = new_bake(square)
+    run.run(lambda f: [box(0.3, -0.15)[0]], 4)
+    assert [r["failed"] for r in run.records] == [[]] * 4
+    assert run.records[0]["centroid_shift_m"] == 0.0 and run.records[0]["on_body_fraction"] == 1.0
+    s = run.summary()
+    assert s["verdict"] == [] and s["on_body_fraction"] == 1.0 and s["assembled_frames"] == 4
+    assert bake.summary_text(s).endswith("passes its checks") and "on body min 100 %" in bake.summary_text(s)
+    run.run(lambda f: [box(0.3, -0.15)[0] + np.float32([1.0, 0.0, 0.0])], 6)
+    last = run.records[-1]
+    assert last["on_body_fraction"] == 0.0 and last["centroid_shift_m"] > 0.9, last
+    assert [f["check"] for f in last["failed"]] == ["fell"]
+    s = run.summary()
+    assert [(v["check"], v["frame"]) for v in s["verdict"]] == [("fell", 5)], s["verdict"]
+    assert s["on_body_fraction"] == 0.0 and s["centroid_shift_m"] > 0.9
+    assert bake.verdict_lines(s)[0].startswith("fell from frame 5: the garment's centroid moved")
+    assert "FAILS: fell (frame 5)" in bake.summary_text(s)
+    # Frames still assembling are not judged on the body, nor counted in its worst figures.
+    assembling = [dict(r, seams_closing=True, on_body_fraction=0.0, failed=[]) for r in run.records[:2]]
+    s = bake.summarize(assembling + run.records[2:4])
+    assert s["assembled_frames"] == 2 and s["on_body_fraction"] == 1.0 and s["verdict"] == []
+    assert "still assembling" in bake.summary_text(bake.summarize(assembling))
+
+
+def test_judge_states_its_thresholds_and_refuses_a_dict_it_cannot_read(square):
+    t = tailor.VERDICT_THRESHOLDS
+    assert (t["on_body_distance_m"], t["on_body_min"], t["fell_shift_m"], t["open_gap_m"]) == (0.1, 0.25, 0.2, 0.01)
+    assert t["checks"] == ["fell", "open", "inside", "nan"]
+    run = new_bake(square)
+    run.run(lambda f: [box(0.3, -0.15)[0]], 1)
+    m = run.sim.metrics(run.metrics_collider)
+    assert tailor.judge(m) == {"centroid_shift_m": 0.0, "failed": []}
+    open_seam = dict(m, seam_gap=0.02, seams_closing=False)
+    assert [f["check"] for f in tailor.judge(open_seam, m, nan=True)["failed"]] == ["open", "nan"]
+    assert tailor.judge(dict(open_seam, seams_closing=True), m)["failed"] == []
+    with pytest.raises(tailor.InvalidParameterError, match="'on_body_fraction'"):
+        tailor.judge({k: v for k, v in m.items() if k != "on_body_fraction"})
+    with pytest.raises(tailor.InvalidParameterError, match="'centroid'"):
+        tailor.judge(dict(m, centroid="up"))

@@ -72,6 +72,48 @@ def test_skirt_on_a_sphere_with_report_and_cache(tmp_path):
     assert c["frames"].shape == (8, sum(p["vertices"] for p in info["pieces"]), 3)
 
 
+def test_a_skirt_below_the_body_is_reported_as_fallen_and_the_command_fails(tmp_path):
+    """Issue 18: a skirt with nothing to hang on (the body, a 15 cm ball, is 1 m above its
+    waist) closes its seams under 1 mm, pierces nothing and never diverges, and falls: the
+    report says so (no particle near the body, the centroid metres below where it started), a
+    warning names the check, and the command exits 3."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.05", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 2.0, 0.0), 0.15)
+    report = tmp_path / "report.json"
+    r = cli("simulate", garment, "--collider", body, "--frames", "40", "--report", report)
+    assert r.returncode == 3, (r.returncode, r.stdout[-2000:], r.stderr)
+    rep = json.loads(report.read_text())
+    s, last = rep["summary"], rep["frames"][-1]
+    assert last["seam_gap_max_m"] < 1e-3 and last["penetration_count"] == 0 and not s["nan"], last
+    assert last["on_body_fraction"] == 0.0 and last["centroid_shift_m"] > 1.0, last
+    assert [f["check"] for f in last["failed"]] == ["fell"]
+    assert s["on_body_fraction"] == 0.0 and s["centroid_shift_m"] > 1.0
+    assert [v["check"] for v in s["verdict"]] == ["fell"] and s["verdict"][0]["frame"] > 1, s["verdict"]
+    warnings = [line for line in r.stdout.splitlines() if line.startswith("warning: ")]
+    assert warnings == [f"warning: fell from frame {s['verdict'][0]['frame']}: {s['verdict'][0]['reason']}"], warnings
+    summary = json.loads(r.stdout.splitlines()[-1].removeprefix("summary: "))
+    assert summary["verdict"] == s["verdict"] and summary["on_body_fraction"] == 0.0
+
+
+def test_a_skirt_on_the_hips_stays_on_and_passes(tmp_path):
+    """The same skirt on a ball as wide as hips (25 cm, centre 15 cm under the skirt's waist)
+    hangs on it: every assembled frame has most of the skirt within 10 cm of the body and its
+    centroid within 20 cm of where it started; the command exits 0 with an empty verdict."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.05", "-o", garment).returncode == 0
+    body = tmp_path / "hips.obj"
+    write_sphere_obj(body, (0.0, 0.75, 0.0), 0.25)
+    report = tmp_path / "report.json"
+    r = cli("simulate", garment, "--collider", body, "--frames", "40", "--report", report)
+    assert r.returncode == 0, (r.stdout[-2000:], r.stderr)
+    s = json.loads(report.read_text())["summary"]
+    assert s["verdict"] == [] and s["assembled_frames"] > 10, s
+    assert s["on_body_fraction"] > 0.25 and s["centroid_shift_m"] < 0.2, s
+    assert "warning:" not in r.stdout and "on body" in r.stdout
+
+
 def test_bad_collider_fails_with_a_message(tmp_path):
     garment = tmp_path / "skirt.json"
     assert cli("import", SKIRT, "--edge", "0.06", "-o", garment).returncode == 0

@@ -213,10 +213,8 @@ class BakeJob:
         return obj
 
     def summary_text(self) -> str:
-        s = self.run.summary()
-        return (f"{s['frame']} frames, {s['ms']:.0f} ms/frame, seam gap max {s['seam_gap_max_m'] * 1e3:.2f} mm, "
-                f"penetration max {s['penetration_max_m'] * 1e3:.2f} mm, strain max {s['strain_max']:.3f}"
-                + (", NaN" if s["nan"] else ""))
+        """The bake's summary in one line with its verdict (`tailor.bake.summary_text`)."""
+        return bake.summary_text(self.run.summary())
 
 
 def finish(scene, job: BakeJob, cancelled: bool) -> str:

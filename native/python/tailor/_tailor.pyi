@@ -177,7 +177,14 @@ class Simulation:
         static_friction: float = 0.3,
         kinetic_friction: float = 0.2,
     ) -> None: ...
-    def metrics(self, collider: int | None = None) -> dict[str, Any]: ...
+    def metrics(self, collider: int | None = None) -> dict[str, Any]:
+        """Quality of the current state: "penetration_count", "penetration_max_depth" (into
+        mesh collider `collider`, 0 without one), "self_intersections", "seam_gap",
+        "strain_max", "strain_mean", "kinetic_energy", "particles", "centroid" (the particles'
+        mean, [x, y, z]), "on_body_fraction" (share of the particles within
+        VERDICT_THRESHOLDS["on_body_distance_m"] (10 cm) of the collider's surface; None without
+        one), "collider_centroid" (its surface's area-weighted centroid; None without one) and
+        "seams_closing" (the garment is still being assembled). `judge` reads these."""
 
 def sewn_tube(
     width: float = 0.5,
@@ -206,6 +213,28 @@ def count_self_intersections(vertices: ArrayLike, triangles_: ArrayLike) -> int:
 def edge_strain(positions: ArrayLike, edges: ArrayLike, rest_lengths: ArrayLike) -> dict[str, float]: ...
 def kinetic_energy(velocities: ArrayLike, masses: ArrayLike) -> float: ...
 def max_seam_gap(positions: ArrayLike, pairs_: ArrayLike) -> float: ...
+def judge(metrics: dict[str, Any], start: dict[str, Any] | None = None, nan: bool = False) -> dict[str, Any]:
+    """The checks a frame fails, given its `Simulation.metrics` (with a collider), those of the
+    frame the run started from (`start`; the frame itself when None) and whether its solve
+    diverged (`nan`). Returns {"centroid_shift_m": float, "failed": [{"check", "reason"}, ...]},
+    `failed` empty when the frame passes, else in this order:
+
+    * "fell": assembled, the garment's centroid moved more than 20 cm from `start`'s, relative to
+      the collider's surface centroid (a walking body carries its garment), or under 25 % of its
+      particles are within 10 cm of the collider's surface;
+    * "open": assembled, a seam is open wider than 1 cm;
+    * "inside": assembled, a particle is deeper than 1 cm inside the collider, or more than 1 % of
+      the particles are inside it;
+    * "nan": `nan` is true.
+
+    "Assembled": no seam is still closing (`metrics["seams_closing"]` false); frames of the
+    assembly are judged on "nan" only. The thresholds by name: `VERDICT_THRESHOLDS`. A missing
+    or mistyped field is an InvalidParameterError."""
+
+#: The verdict's thresholds (see `judge`): "on_body_distance_m" 0.10, "on_body_min" 0.25,
+#: "fell_shift_m" 0.20, "open_gap_m" 0.01, "inside_depth_m" 0.01, "inside_share" 0.01, and
+#: "checks", the check names in verdict order.
+VERDICT_THRESHOLDS: dict[str, Any]
 # Patterns, triangulation, seams and garments.
 
 class Piece:

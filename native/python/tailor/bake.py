@@ -30,15 +30,24 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from tailor._tailor import CancelledError, InvalidParameterError, SimulationError, Simulation, write_pc2
+from tailor._tailor import (VERDICT_THRESHOLDS, CancelledError, InvalidParameterError, SimulationError, Simulation,
+                            judge, write_pc2)
 
-#: Quality fields of a frame record, each worst-case over frames in a summary.
+#: Quality fields of a frame record, each worst-case (largest) over frames in a summary.
 FIELDS = ("seam_gap_max_m", "penetration_count", "penetration_max_m", "self_intersections", "strain_max")
 
 
-def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: int | None = None) -> dict:
-    """The quality of the simulation's current state as one report record."""
-    m = sim.metrics(collider)
+def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: int | None = None,
+                 start: dict | None = None, metrics: dict | None = None) -> dict:
+    """The quality of the simulation's current state as one report record, judged against
+    `start` (the `Simulation.metrics` of the run's first frame; this frame itself when None) by
+    `tailor.judge`: `on_body_fraction` (share of the particles within 10 cm of `collider`, None
+    without one), `centroid_shift_m` (how far the garment's centroid moved on the body since
+    `start`), `seams_closing` (still assembling) and `failed` (the checks it fails, each
+    {"check", "reason"}). `metrics` is `sim.metrics(collider)` when the caller already has it."""
+    m = sim.metrics(collider) if metrics is None else metrics
+    nan = bool(nan or not np.isfinite(sim.positions).all())
+    verdict = judge(m, start, nan)
     return {
         "frame": int(frame),
         "ms": float(ms),
@@ -47,17 +56,71 @@ def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: in
         "penetration_max_m": float(m["penetration_max_depth"]),
         "self_intersections": int(m["self_intersections"]),
         "strain_max": float(m["strain_max"]),
-        "nan": bool(nan or not np.isfinite(sim.positions).all()),
+        "on_body_fraction": None if m["on_body_fraction"] is None else float(m["on_body_fraction"]),
+        "centroid_shift_m": float(verdict["centroid_shift_m"]),
+        "seams_closing": bool(m["seams_closing"]),
+        "nan": nan,
+        "failed": verdict["failed"],
     }
 
 
 def summarize(records: Sequence[dict]) -> dict:
-    """Worst case of every quality field over `records`, the mean frame time, any NaN."""
+    """Worst case of every quality field over `records` (the largest of `FIELDS`), the mean
+    frame time, any NaN, and the garment on the body over the frames `tailor.judge` judges it
+    on, the assembled ones (`assembled_frames` of them): the smallest `on_body_fraction` and the
+    largest `centroid_shift_m` (None when no frame is assembled or there is no collider). And the
+    `verdict`: each check that some record failed (in `judge`'s order) with the first frame that
+    failed it and that frame's reason, [] when every frame passed."""
     if not records:
-        return {"frame": 0, "ms": 0.0, "nan": False, **{k: 0 for k in FIELDS}}
+        return {"frame": 0, "ms": 0.0, "nan": False, **{k: 0 for k in FIELDS}, "assembled_frames": 0,
+                "on_body_fraction": None, "centroid_shift_m": None, "verdict": []}
     s = {k: max(r[k] for r in records) for k in FIELDS}
     s.update(frame=len(records), ms=float(np.mean([r["ms"] for r in records])), nan=any(r["nan"] for r in records))
+    s.update(on_body_worst(records), verdict=verdict_of(records))
     return s
+
+
+def on_body_worst(records: Sequence[dict]) -> dict:
+    """Over the assembled records (`seams_closing` false: those `tailor.judge` judges on the body):
+    how many, the smallest `on_body_fraction` and the largest `centroid_shift_m` (None when none
+    is assembled or there is no collider)."""
+    judged = [r for r in records if not r.get("seams_closing", False)]
+    shares = [r["on_body_fraction"] for r in judged if r.get("on_body_fraction") is not None]
+    return {"assembled_frames": len(judged), "on_body_fraction": min(shares) if shares else None,
+            "centroid_shift_m": max(r["centroid_shift_m"] for r in judged) if judged else None}
+
+
+def verdict_of(records: Sequence[dict]) -> list[dict]:
+    """Each check some record failed (its `failed`, from `tailor.judge`), in `judge`'s order, with
+    the first frame that failed it and that frame's reason: {"check", "frame", "reason"}."""
+    first: dict[str, dict] = {}
+    for r in records:
+        for f in r.get("failed", ()):
+            first.setdefault(f["check"], {"check": f["check"], "frame": r["frame"], "reason": f["reason"]})
+    return [first[c] for c in VERDICT_THRESHOLDS["checks"] if c in first]
+
+
+def verdict_lines(summary: dict) -> list[str]:
+    """One line per failed check of a summary's verdict: "fell from frame 12: <reason>"."""
+    return [f"{v['check']} from frame {v['frame']}: {v['reason']}" for v in summary.get("verdict", ())]
+
+
+def summary_text(summary: dict) -> str:
+    """A summary in one line for people (the add-on's Last Bake): frames, time, the worst
+    quality figures, the garment on the body, and the verdict ("passes its checks", or each
+    failed check with its first frame)."""
+    s = summary
+    share, shift = s.get("on_body_fraction"), s.get("centroid_shift_m")
+    if not s.get("assembled_frames"):
+        on_body = ", still assembling"
+    else:
+        on_body = (f", on body min {share * 100:.0f} %" if share is not None else "") + \
+            f", centroid moved max {shift * 1e2:.1f} cm"
+    failed = [f"{v['check']} (frame {v['frame']})" for v in s.get("verdict", ())]
+    return (f"{s['frame']} frames, {s['ms']:.0f} ms/frame, seam gap max {s['seam_gap_max_m'] * 1e3:.2f} mm, "
+            f"penetration max {s['penetration_max_m'] * 1e3:.2f} mm, strain max {s['strain_max']:.3f}{on_body}"
+            + (", NaN" if s["nan"] else "")
+            + (f"; FAILS: {', '.join(failed)}" if failed else "; passes its checks"))
 
 
 def write_pc2_atomic(path: str | os.PathLike, frames: np.ndarray, start_frame: float, sample_rate: float = 1.0) -> None:
@@ -177,6 +240,8 @@ class Bake:
     warnings: list[str] = field(default_factory=list)
     prerolled: bool = False
     pins: ColliderPins | None = None
+    #: `Simulation.metrics` of frame `start`: what every record is judged against.
+    start_metrics: dict | None = None
 
     @property
     def next_frame(self) -> int:
@@ -209,7 +274,10 @@ class Bake:
             self._solve(1.0 / self.fps)
         ms = (time.perf_counter() - t0) * 1e3
         pos = self.sim.positions
-        rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider)
+        m = self.sim.metrics(self.metrics_collider)
+        if not self.frames:
+            self.start_metrics = m
+        rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider, self.start_metrics, m)
         self.frames.append(pos)
         self.records.append(rec)
         return rec

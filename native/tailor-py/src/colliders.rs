@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use tailor_core::collision::metrics;
 use tailor_core::collision::InsertionRule;
+use tailor_core::solver::collide::verdict;
 use tailor_core::solver::{ColliderId, CollisionStats, QualityMetrics, SelfCollisionSettings};
 use tailor_core::TailorError;
 
@@ -98,6 +99,79 @@ pub fn metrics_dict<'py>(py: Python<'py>, m: &QualityMetrics) -> PyResult<Bound<
     d.set_item("strain_max", m.strain_max)?;
     d.set_item("strain_mean", m.strain_mean)?;
     d.set_item("kinetic_energy", m.kinetic_energy)?;
+    d.set_item("particles", m.particles)?;
+    d.set_item("centroid", m.centroid.to_vec())?;
+    d.set_item("on_body_fraction", m.on_body_fraction)?;
+    d.set_item("collider_centroid", m.collider_centroid.map(|c| c.to_vec()))?;
+    d.set_item("seams_closing", m.seams_closing)?;
+    Ok(d)
+}
+
+/// The fields of a metrics dict (as [`metrics_dict`] writes it) that the verdict reads; a
+/// missing or mistyped one is an `InvalidParameterError` naming it.
+fn metrics_from_dict(d: &Bound<'_, PyDict>, name: &str) -> PyResult<QualityMetrics> {
+    let item = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        d.get_item(key)?
+            .ok_or_else(|| to_py(TailorError::shape(name, format!("no '{key}' (a dict of Simulation.metrics)"))))
+    };
+    let bad = |key: &str, e: PyErr| to_py(TailorError::shape(name, format!("'{key}': {e}")));
+    macro_rules! field {
+        ($key:literal, $t:ty) => {
+            item($key)?.extract::<$t>().map_err(|e| bad($key, e.into()))?
+        };
+    }
+    Ok(QualityMetrics {
+        penetration_count: field!("penetration_count", usize),
+        penetration_max_depth: field!("penetration_max_depth", f32),
+        seam_gap: field!("seam_gap", f32),
+        particles: field!("particles", usize),
+        centroid: field!("centroid", [f32; 3]),
+        on_body_fraction: field!("on_body_fraction", Option<f32>),
+        collider_centroid: field!("collider_centroid", Option<[f32; 3]>),
+        seams_closing: field!("seams_closing", bool),
+        ..Default::default()
+    })
+}
+
+/// The checks a frame fails (see the stub's docstring and `tailor_core::solver::collide::verdict`).
+#[pyfunction]
+#[pyo3(signature = (metrics, start=None, nan=false))]
+pub fn judge<'py>(
+    py: Python<'py>,
+    metrics: &Bound<'py, PyDict>,
+    start: Option<&Bound<'py, PyDict>>,
+    nan: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let now = metrics_from_dict(metrics, "metrics")?;
+    let start = match start {
+        Some(s) => metrics_from_dict(s, "start")?,
+        None => now,
+    };
+    let d = PyDict::new(py);
+    d.set_item("centroid_shift_m", verdict::centroid_shift(&start, &now))?;
+    let failed = pyo3::types::PyList::empty(py);
+    for f in verdict::judge(&now, &start, nan) {
+        let e = PyDict::new(py);
+        e.set_item("check", f.check.name())?;
+        e.set_item("reason", f.reason)?;
+        failed.append(e)?;
+    }
+    d.set_item("failed", failed)?;
+    Ok(d)
+}
+
+/// The verdict's thresholds by name (`tailor.VERDICT_THRESHOLDS`), as the shortest decimals
+/// that round to them (0.1, not 0.10000000149).
+pub fn verdict_thresholds<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let tidy = |x: f32| x.to_string().parse::<f64>().unwrap_or(x as f64);
+    d.set_item("on_body_distance_m", tidy(metrics::ON_BODY_DISTANCE))?;
+    d.set_item("on_body_min", tidy(verdict::ON_BODY_MIN))?;
+    d.set_item("fell_shift_m", tidy(verdict::FELL_SHIFT))?;
+    d.set_item("open_gap_m", tidy(verdict::OPEN_GAP))?;
+    d.set_item("inside_depth_m", tidy(verdict::INSIDE_DEPTH))?;
+    d.set_item("inside_share", tidy(verdict::INSIDE_SHARE))?;
+    d.set_item("checks", verdict::Check::ALL.map(verdict::Check::name).to_vec())?;
     Ok(d)
 }
 

@@ -3,8 +3,10 @@
 Stages: load the garment file and the glTF character; assemble at the rest pose (the seams
 close under the damping ramp), blend into the walk, walk (`on_character`); then render every
 `--render-every`th frame with Workbench (`demo_render`, the `bpy` wheel) and compose a contact
-sheet. Prints per-phase timings (ms/frame, particles) and quality figures (seam gap,
-penetration, strain); writes into the output folder:
+sheet. Prints per-phase timings (ms/frame, particles), quality figures (seam gap,
+penetration, strain, the garment on the body) and the verdict of `tailor.judge` on every
+judged frame against the garment as placed (exit status 3 when it fails a check, 1 on NaN or
+seams that never met, as ``tailor simulate``); writes into the output folder:
 
 * ``frames/frame_NNNN.png``: the image sequence; ``contact_sheet.png``: a grid of frames;
   ``animation.gif``: the frames as an animated image (played at the simulation's speed);
@@ -47,6 +49,7 @@ def _summary(records: list[dict], phase: str) -> dict:
 
 def run(args):
     import tailor
+    from tailor import bake
     from tailor.commands import on_character
 
     t_all = time.perf_counter()
@@ -69,6 +72,7 @@ def run(args):
           f"{'strain max':>10} {'ramp':>9}")
     records, cloth_frames, body_frames = [], [], []
     closed_at = None
+    start = sim.metrics(d.collider)  # the garment as placed: what every frame is judged against
     t_sim = time.perf_counter()
     for f in range(total):
         phase = schedule.phase(f)
@@ -83,7 +87,7 @@ def run(args):
             closed_at = f + 1
         last_of_phase = f + 1 == total or schedule.phase(f + 1) != phase
         if phase != "assemble" or (f + 1) % 5 == 0 or last_of_phase:
-            rec.update(on_character.quality(d))
+            rec.update(on_character.quality(d, start))
         if (f + 1) % 10 == 0 or f == 0 or last_of_phase:
             q = rec if "seam_gap_m" in rec else None
             print(f"{f + 1:5d} {phase:>8} {ms:7.1f} "
@@ -97,8 +101,10 @@ def run(args):
     tailor.write_pc2(out / "garment.pc2", np.stack(cloth_frames), start_frame=1.0, sample_rate=1.0)
 
     phases = {p: _summary(records, p) for p in ("assemble", "blend", "animate")}
+    judged = [r for r in records if "failed" in r]
     summary = {**info, "frames": total, "simulate_s": sim_s, "ms_per_frame_median": float(np.median(
-        [r["ms"] for r in records])), "seams_met_at_frame": closed_at, "seams_met_below_m": MET, "phases": phases}
+        [r["ms"] for r in records])), "seams_met_at_frame": closed_at, "seams_met_below_m": MET, "phases": phases,
+        **bake.on_body_worst(judged), "verdict": bake.verdict_of(judged)}
     a, w = phases["assemble"], phases.get("animate") or {}
     print()
     print(f"timing:   {summary['ms_per_frame_median']:.0f} ms/frame median for {info['particles']} particles "
@@ -113,6 +119,12 @@ def run(args):
         print(f"{args.action}:     worst over {w['frames']} frames: seam gap {w['seam_gap_max_m'] * 1e3:.3f} mm, "
               f"penetrations {w['penetration_count_max']} (deepest {w['penetration_max_m'] * 1e3:.2f} mm), "
               f"strain max {w['strain_max']:.3f} (mean {w['strain_mean']:.4f}), NaN: {w['nan']}")
+    share, shift = summary["on_body_fraction"], summary["centroid_shift_m"]
+    print("on body:  " + (f"at least {share * 100:.0f} % within {tailor.VERDICT_THRESHOLDS['on_body_distance_m'] * 1e2:g} "
+                           f"cm of the body, centroid moved at most {shift * 1e2:.1f} cm on it over "
+                           f"{summary['assembled_frames']} assembled frames" if share is not None else "never assembled"))
+    print("verdict:  " + ("passes its checks" if not summary["verdict"] else
+                          "FAILS: " + "; ".join(bake.verdict_lines(summary))))
 
     if not args.no_render:
         t_r = time.perf_counter()
@@ -132,7 +144,7 @@ def run(args):
     print(f"total:    {summary['total_s']:.1f} s; wrote {out / 'report.json'}, {out / 'garment.pc2'}")
     last = records[-1]
     ok = not any(r.get("nan", False) for r in records) and closed_at is not None
-    return 0 if ok else 1
+    return (1 if not ok else 3 if summary["verdict"] else 0)
 
 
 def render(args, out: Path, d, character, body_frames, cloth_frames, info) -> dict:

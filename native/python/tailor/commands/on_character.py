@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+import tailor
 from tailor.bake import ColliderPins
 from tailor.commands import garment_extras
 
@@ -216,9 +217,14 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
     return Dressed(sim, cid, list(offsets), tris, info, body=np.asarray(body, np.float32), pins=pins)
 
 
-def quality(d: Dressed) -> dict:
-    """The quality figures of the current state (seam gap, penetration, strain), SI units."""
+def quality(d: Dressed, start: dict | None = None) -> dict:
+    """The quality figures of the current state (seam gap, penetration, strain), SI units, and
+    the garment on the body judged against `start` (the `Simulation.metrics` of the first frame)
+    as `tailor.bake.frame_record` judges it: `on_body_fraction`, `centroid_shift_m`,
+    `seams_closing`, `failed`."""
     m = d.sim.metrics(d.collider)
+    nan = not bool(np.isfinite(d.sim.positions).all())
+    verdict = tailor.judge(m, start, nan)
     return {
         "seam_gap_m": float(m["seam_gap"]),
         "penetration_count": int(m["penetration_count"]),
@@ -226,5 +232,9 @@ def quality(d: Dressed) -> dict:
         "strain_max": float(m["strain_max"]),
         "strain_mean": float(m["strain_mean"]),
         "self_intersections": int(m["self_intersections"]),
-        "nan": not bool(np.isfinite(d.sim.positions).all()),
+        "on_body_fraction": None if m["on_body_fraction"] is None else float(m["on_body_fraction"]),
+        "centroid_shift_m": float(verdict["centroid_shift_m"]),
+        "seams_closing": bool(m["seams_closing"]),
+        "nan": nan,
+        "failed": verdict["failed"],
     }

@@ -9,6 +9,18 @@ glTF files by their convention, Z for PLY, unless ``--up`` says. The garment ass
 close under the damping ramp) and follows the collider. The report holds one record per frame
 and a summary of the same fields (worst case over the frames, mean frame time).
 
+Every frame is judged by ``tailor.judge`` against the garment as placed (frame 0): whether it
+fell off the body (its centroid moved over 20 cm on the body, or, assembled, under 50 % of its
+particles lie within 5 cm of the body), a seam is open (over 1 cm once assembled), cloth is
+inside the body (deeper than 1 cm, or over 1 % of the particles) or the solve diverged. The
+records carry ``on_body_fraction``, ``centroid_shift_m`` and ``failed``; the summary the worst of
+them and its ``verdict``: each failed check with the first frame that failed it and why, printed
+as a ``warning:`` line.
+
+Exit status: 0 when the result passes its checks; 1 when the solve diverged (NaN); 3
+(``FAILED_CHECKS``) when it ran to the end but fails a check (fell, open, inside); 2 on an error
+(one line on stderr) or bad arguments. The report is written in every case but the last.
+
 What the garment file records besides its pieces and seams is used as the samples and the
 add-on use it (`tailor.commands.on_character.file_setup`): fabric per piece, collision levels of
 the particles and of the collider, thickness, self-collision with its radius and the cloth's
@@ -25,6 +37,9 @@ from pathlib import Path
 import numpy as np
 
 from tailor.bake import FIELDS  # noqa: F401  (the report fields, kept importable from here)
+
+#: Exit status of a run that finished but whose result fails its own checks (fell, open, inside).
+FAILED_CHECKS = 3
 
 
 def register(sub):
@@ -118,14 +133,15 @@ def run(args):
             rec = run.step([motion.at(f - 1)])
         except tailor.SimulationError as exc:
             warnings.append(f"frame {f}: {exc}")
-            rec = bake.frame_record(sim, f, 0.0, True, cid)
+            rec = bake.frame_record(sim, f, 0.0, True, cid, run.start_metrics)
             run.frames.append(sim.positions)
             run.records.append(rec)
         frames.append(rec)
         if f % 10 == 0 or f == 1 or f == args.frames:
             print(f"frame {f:4d}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
                   f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
-                  f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}")
+                  f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "
+                  f"on body {rec['on_body_fraction'] * 100:.0f} %, centroid moved {rec['centroid_shift_m'] * 1e2:.1f} cm")
     summary = bake.summarize(frames)
     report = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
               "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached)}
@@ -138,5 +154,9 @@ def run(args):
         bake.write_pc2_atomic(args.output, run.positions()[1:], start_frame=1.0, sample_rate=1.0)
     for w in warnings:
         print(f"warning: {w}")
+    for line in bake.verdict_lines(summary):
+        print(f"warning: {line}")
     print(f"summary: {json.dumps(summary)}")
-    return 1 if summary["nan"] else 0
+    if summary["nan"]:
+        return 1
+    return FAILED_CHECKS if summary["verdict"] else 0

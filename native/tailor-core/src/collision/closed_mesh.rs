@@ -48,6 +48,8 @@ pub struct ClosedMesh {
     cell: f32,
     cell_lo: Cell,
     cell_hi: Cell,
+    // Bounding box of the vertices.
+    bounds: [Vec3; 2],
 }
 
 /// A cell side for conservative (every AABB cell) hashing: the mean triangle AABB extent, but
@@ -148,6 +150,7 @@ impl ClosedMesh {
             cell,
             cell_lo,
             cell_hi,
+            bounds: [lo3, hi3],
         })
     }
 
@@ -243,6 +246,72 @@ impl ClosedMesh {
             }
         }
         best
+    }
+
+    /// Whether the surface comes within `within` metres of `p` (`within` ≥ 0).
+    ///
+    /// The ring search of [`ClosedMesh::distance`] bounded by the question: a point farther
+    /// than `within` from the mesh's bounding box is answered at once, and after shell `r`
+    /// every triangle not yet seen is more than `r·l` away, so no shell beyond
+    /// `⌈within / l⌉` is visited. Cheap for points far from the body (a garment that fell).
+    pub fn is_within(&self, p: [f32; 3], within: f32) -> bool {
+        let pv = Vec3::from(p);
+        if !pv.is_finite() || within.is_nan() || within < 0.0 {
+            return false;
+        }
+        let outside = (self.bounds[0] - pv).max(pv - self.bounds[1]).max(Vec3::ZERO);
+        if outside.length() > within {
+            return false;
+        }
+        let l = self.cell;
+        let c = self.hash.hash().cell_of(p);
+        let near = |t: u32| {
+            let [a, b, cc] = self.triangles[t as usize].map(|i| Vec3::from(self.vertices[i as usize]));
+            closest_point_on_triangle(pv, a, b, cc).0.distance(pv) <= within
+        };
+        let r_end = ((within / l).ceil() as i64).min(1 << 20);
+        if (2 * r_end + 1).pow(3) > 4 * self.triangles.len() as i64 + 27 {
+            return (0..self.triangles.len() as u32).any(near);
+        }
+        let query =
+            |dx: i64, dy: i64, dz: i64| self.hash.hash().query_cell([c[0] + dx, c[1] + dy, c[2] + dz]).any(near);
+        for r in 0..=r_end {
+            for dz in -r..=r {
+                for dy in -r..=r {
+                    let hit = if dz.abs() == r || dy.abs() == r {
+                        (-r..=r).any(|dx| query(dx, dy, dz))
+                    } else {
+                        query(-r, dy, dz) || (r > 0 && query(r, dy, dz))
+                    };
+                    if hit {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// How many of `points` are within `within` metres of the surface ([`ClosedMesh::is_within`]),
+    /// in parallel.
+    pub fn count_within(&self, points: &[[f32; 3]], within: f32) -> usize {
+        points.par_iter().filter(|&&p| self.is_within(p, within)).count()
+    }
+
+    /// The area-weighted centroid of the surface (the mean vertex when it has no area).
+    pub fn surface_centroid(&self) -> [f32; 3] {
+        let (mut sum, mut area) = (glam::DVec3::ZERO, 0.0f64);
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| Vec3::from(self.vertices[i as usize]).as_dvec3());
+            let w = 0.5 * (b - a).cross(c - a).length();
+            sum += w * (a + b + c) / 3.0;
+            area += w;
+        }
+        if area > 0.0 {
+            return (sum / area).as_vec3().into();
+        }
+        let n = self.vertices.len().max(1) as f64;
+        (self.vertices.iter().map(|v| Vec3::from(*v).as_dvec3()).sum::<glam::DVec3>() / n).as_vec3().into()
     }
 
     /// Number of points inside and the largest distance of an inside point to the surface.
@@ -354,6 +423,31 @@ mod tests {
         let pen = bx.penetration(&[[0.0, 0.5, 1.0], [0.5, 0.0, 0.0], [5.0, 0.0, 0.0]]);
         assert_eq!(pen.count, 2);
         assert!((pen.max_depth - 1.0).abs() < 1e-6, "{}", pen.max_depth);
+    }
+
+    #[test]
+    fn within_agrees_with_the_distance() {
+        let (v, t) = icosphere(3, 0.3);
+        let sphere = ClosedMesh::new(&v, &t).unwrap();
+        let mut rng = Rng::new(11);
+        for k in 0..4000 {
+            let p: [f32; 3] = (rng.vec3(0.8) * if k % 4 == 0 { 10.0 } else { 1.0 }).into();
+            let d = sphere.distance(p).0;
+            for within in [0.0, 0.01, 0.05, 0.2, 3.0] {
+                // Points within rounding of the limit may go either way.
+                if (d - within).abs() > 1e-5 {
+                    assert_eq!(sphere.is_within(p, within), d <= within, "{p:?} at {d} within {within}");
+                }
+            }
+        }
+        assert!(!sphere.is_within([f32::NAN, 0.0, 0.0], 1.0) && !sphere.is_within([0.0; 3], f32::NAN));
+        assert_eq!(sphere.count_within(&[[0.0, 0.31, 0.0], [0.0, 0.0, 0.0], [0.0, -2.0, 0.0]], 0.05), 1);
+        // The surface centroid: the sphere's centre; a box's, whatever its vertex order.
+        let c = Vec3::from(sphere.surface_centroid());
+        assert!(c.length() < 1e-5, "{c}");
+        let (v, t) = box_mesh([0.0, 1.0, 2.0], [2.0, 2.0, 4.0]);
+        let c = Vec3::from(ClosedMesh::new(&v, &t).unwrap().surface_centroid());
+        assert!((c - Vec3::new(1.0, 1.5, 3.0)).length() < 1e-5, "{c}");
     }
 
     #[test]

@@ -4,7 +4,10 @@
 //! * self-intersections: pairs of non-adjacent cloth triangles that intersect;
 //! * edge strain: `|ℓ / ℓ₀ − 1|` per edge, max and mean;
 //! * kinetic energy: `½ Σ mᵢ |vᵢ|²` (in `f64`: it is a sum of many small terms);
-//! * seam gap: the largest distance between the two sides of a seam.
+//! * seam gap: the largest distance between the two sides of a seam;
+//! * on the body: the share of cloth points within [`ON_BODY_DISTANCE`] of the body's surface
+//!   ([`on_body_fraction`]) and the cloth's [`centroid`]: a garment that fell off the body has
+//!   few points near it and a centroid far from where it started.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -154,6 +157,29 @@ pub fn kinetic_energy_soa(vx: &[f32], vy: &[f32], vz: &[f32], masses: &[f32]) ->
     Ok((0..n).map(|i| 0.5 * masses[i] as f64 * (vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) as f64).sum())
 }
 
+/// How near the body's surface a cloth point must be to count as on the body, metres: 10 cm.
+///
+/// A worn garment lies on the body within its collision thickness (a few millimetres) where it
+/// hangs from it, and what hangs free stands off it by centimetres: the sample skirt's flare on
+/// the sample character, just assembled, has 45 % of its particles within 5 cm of the body, 79 %
+/// within 10 cm (91-94 % once it settles). A garment that fell has none near it.
+pub const ON_BODY_DISTANCE: f32 = 0.10;
+
+/// Share of `points` within `within` metres of the surface of `body` (0 for no points).
+pub fn on_body_fraction(points: &[[f32; 3]], body: &ClosedMesh, within: f32) -> f32 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    (body.count_within(points, within) as f64 / points.len() as f64) as f32
+}
+
+/// The mean of `points` (summed in `f64`; the origin for no points).
+pub fn centroid(points: &[[f32; 3]]) -> [f32; 3] {
+    let n = points.len().max(1) as f64;
+    let s = points.iter().fold([0.0f64; 3], |s, p| [s[0] + p[0] as f64, s[1] + p[1] as f64, s[2] + p[2] as f64]);
+    s.map(|c| (c / n) as f32)
+}
+
 /// Largest distance between the two points of any pair (0 for no pairs).
 pub fn max_seam_gap(positions: &[[f32; 3]], pairs: &[[u32; 2]]) -> Result<f32> {
     let n = positions.len();
@@ -229,6 +255,20 @@ mod tests {
         assert!(kinetic_energy(&[[0.0; 3]], &[]).is_err());
         assert!((max_seam_gap(&p, &[[1, 2], [0, 1]]).unwrap() - (1.21f32 + 0.81).sqrt()).abs() < 1e-6);
         assert!(max_seam_gap(&p, &[[1, 9]]).is_err());
+    }
+
+    #[test]
+    fn on_body_share_and_centroid() {
+        let (v, t) = icosphere(3, 1.0);
+        let body = ClosedMesh::new(&v, &t).unwrap();
+        // On the surface, 9 cm out, 9 cm in, 11 cm out, far below.
+        let pts = [[0.0, 0.0, 1.0], [1.09, 0.0, 0.0], [0.0, 0.91, 0.0], [0.0, 0.0, -1.11], [0.0, -5.0, 0.0]];
+        assert!((on_body_fraction(&pts, &body, ON_BODY_DISTANCE) - 0.6).abs() < 1e-6);
+        assert!((on_body_fraction(&pts, &body, 0.2) - 0.8).abs() < 1e-6);
+        assert_eq!(on_body_fraction(&[], &body, ON_BODY_DISTANCE), 0.0);
+        let c = centroid(&pts);
+        assert!((c[1] - (0.91 - 5.0) / 5.0).abs() < 1e-6, "{c:?}");
+        assert_eq!(centroid(&[]), [0.0; 3]);
     }
 
     #[test]

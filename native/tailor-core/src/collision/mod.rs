@@ -10,8 +10,9 @@
 //! * [`intersect`]: segment-triangle and triangle-triangle intersection predicates.
 //! * [`self_collision`]: particle pairs closer than `2r` found through the hash.
 //! * [`metrics`]: quality measures (penetration, self-intersections, strain, kinetic energy,
-//!   seam gap) reported to the user; [`closed_mesh`] holds the inside (ray parity) and
-//!   distance queries behind the penetration measure.
+//!   seam gap, the share of the cloth near the body and its centroid) reported to the user;
+//!   [`closed_mesh`] holds the inside (ray parity) and distance queries behind the penetration
+//!   and on-body measures. The verdict on them is `solver::collide::verdict`.
 //!
 //! Positions come either as structure-of-arrays `f32` slices (the solver's layout) or as
 //! `&[[f32; 3]]` (meshes). Everything called per substep reuses its buffers: after the first

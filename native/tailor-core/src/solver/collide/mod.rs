@@ -26,6 +26,7 @@ mod attach;
 pub mod levels;
 pub(crate) mod mesh_collider;
 pub(crate) mod self_collide;
+pub mod verdict;
 
 use std::time::Instant;
 
@@ -40,7 +41,9 @@ use self::self_collide::{PassInput, SelfCollide};
 use super::contacts::CONTACT_WEIGHT_FACTOR;
 use super::simulation::Simulation;
 use crate::collision::closed_mesh::ClosedMesh;
-use crate::collision::metrics::{count_self_intersections, edge_strain, kinetic_energy_soa};
+use crate::collision::metrics::{
+    centroid, count_self_intersections, edge_strain, kinetic_energy_soa, on_body_fraction, ON_BODY_DISTANCE,
+};
 use crate::error::{Result, TailorError};
 
 /// Marks a `ContactSet::collider` entry as mesh collider `c & !MESH_CONTACT`.
@@ -107,6 +110,19 @@ pub struct QualityMetrics {
     pub strain_mean: f32,
     /// `½ Σ m v²`, joules.
     pub kinetic_energy: f64,
+    /// Number of cloth particles.
+    pub particles: usize,
+    /// Mean position of the cloth particles, metres.
+    pub centroid: [f32; 3],
+    /// Share of the cloth particles within [`ON_BODY_DISTANCE`] of the collider's surface
+    /// (`None` without a collider).
+    pub on_body_fraction: Option<f32>,
+    /// Area-weighted centroid of the collider's surface (`None` without a collider): the
+    /// body's own motion, which [`verdict::centroid_shift`] takes out of the cloth's.
+    pub collider_centroid: Option<[f32; 3]>,
+    /// Whether some seam is still closing ([`Simulation::seams_closing`]): the garment is
+    /// still being assembled.
+    pub seams_closing: bool,
 }
 
 /// Collision state of a simulation.
@@ -329,10 +345,16 @@ impl Simulation {
         let mut q = QualityMetrics::default();
         if let Some(id) = collider {
             let m = self.mesh(id)?;
-            let pen = ClosedMesh::new(&m.cur, &m.tris)?.penetration(&pos);
+            let body = ClosedMesh::new(&m.cur, &m.tris)?;
+            let pen = body.penetration(&pos);
             q.penetration_count = pen.count;
             q.penetration_max_depth = pen.max_depth;
+            q.on_body_fraction = Some(on_body_fraction(&pos, &body, ON_BODY_DISTANCE));
+            q.collider_centroid = Some(body.surface_centroid());
         }
+        q.particles = pos.len();
+        q.centroid = centroid(&pos);
+        q.seams_closing = self.seams_closing();
         q.self_intersections = count_self_intersections(&pos, mesh.triangles())?;
         q.seam_gap = self.seam_gaps().0;
         let edges = &mesh.topology().edges;

@@ -1,5 +1,7 @@
 // Damping stage (port of `Simulation::finish_substep`, after `resolve_mesh`): penetrations of
-// analytic colliders left after the iterations are pushed out, v = (x − x_start)/h, Coulomb friction for particles in contact,
+// analytic colliders left after the iterations are pushed out, v = (x − x_start)/h, Coulomb friction for particles in contact
+// (the normal impulse the larger of the change from free flight and the last iteration's
+// contact force, `contact_pushes`),
 // then air damping exp(−c·h) with c the seam-closing ramp's damping before it advances.
 
 @group(0) @binding(2) var<storage, read_write> x: array<vec4<f32>>;
@@ -27,6 +29,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     var p = x[i].xyz;
+    let ct = contacts[i];
+    // The last iteration's contact force as a displacement (`contact_pushes`), before the
+    // remaining penetrations are pushed out.
+    var push = 0.0;
+    if (ct.weight > 0.0 && is_analytic(ct.collider)) {
+        push = ct.weight * max(dot(ct.target_pos - p, ct.normal), 0.0) * params.h * params.h / particles[i].mass;
+    }
     if (params.n_colliders > 0u && particles[i].pinned == 0u) {
         // `contacts::resolve_penetrations`, colliders in order.
         var touched = false;
@@ -43,13 +52,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let xs = x_start[i].xyz;
     var vel = (p - xs) * params.inv_h;
-    let ct = contacts[i];
     // Mesh contacts had their friction in `resolve_mesh.wgsl`.
     if (is_analytic(ct.collider)) {
         // The prediction y as `predict` computed it (contacts never involve pinned particles).
         let y = xs + v[i].xyz * params.h + params.gravity * (params.h * params.h);
         let v_pred = (y - xs) * params.inv_h;
-        let dvn = max(dot(vel - v_pred, ct.normal), 0.0);
+        let dvn = max(max(dot(vel - v_pred, ct.normal), push * params.inv_h), 0.0);
         let col = colliders[ct.collider];
         vel = coulomb(vel, ct.normal, dvn, col.static_friction, col.kinetic_friction);
     }

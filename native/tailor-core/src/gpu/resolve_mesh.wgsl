@@ -1,15 +1,19 @@
 // End of substep, mesh colliders (port of `Simulation::resolve_mesh_penetrations`): a
 // particle still behind a mesh collider goes to its target (so no substep ends inside), and
 // every mesh contact of the substep gets Coulomb friction at the position level on its
-// displacement relative to the touched triangle: with d = (x − y)·n (how far the contact
-// pushed it out of free flight), the tangential part of (x − x₀ − v_c·h) is removed when
-// under μs·d, else shortened by μk·d. Runs before `finish` (analytic colliders, velocities).
+// displacement relative to the touched triangle: with d the larger of (x − y)·n (how far the
+// contact pushed it out of free flight) and the last iteration's contact force as a
+// displacement, w·((p − x)·n)·h²/m (`contact_pushes`: the body pushing back against the
+// cloth's tension too), the tangential part of (x − x₀ − v_c·h) is removed when under μs·d,
+// else shortened by μk·d. Runs before `finish` (analytic colliders, velocities). Frames whose
+// seams are still closing run on the CPU, so the frictionless closing is not ported.
 
 @group(0) @binding(2) var<storage, read_write> x: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> x_start: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> v: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read_write> contacts: array<Contact>;
 @group(0) @binding(6) var<storage, read> fdata: array<f32>;
+@group(0) @binding(7) var<storage, read> particles: array<Particle>;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -20,6 +24,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var ct = contacts[i];
     var p = x[i].xyz;
     let analytic = ct.weight > 0.0 && (ct.collider & MESH_CONTACT) == 0u;
+    // The last iteration's contact force as a displacement (`contact_pushes`).
+    var push = 0.0;
+    if (ct.weight > 0.0 && is_mesh(ct.collider)) {
+        let behind = max(dot(ct.target_pos - p, ct.normal), 0.0);
+        push = ct.weight * behind * params.h * params.h / particles[i].mass;
+    }
     let d = deepest_mesh_contact(p, bitcast<i32>(idx[params.particle_levels + i]));
     if (d.hit.found != 0u && !analytic) {
         p = d.hit.target_pos;
@@ -34,7 +44,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let xs = x_start[i].xyz;
         // The prediction y as `predict` computed it (contacts never involve pinned particles).
         let y = xs + v[i].xyz * params.h + params.gravity * (params.h * params.h);
-        let dn = dot(p - y, n);
+        let dn = max(dot(p - y, n), push);
         if (dn > 0.0) {
             var vc = vec3<f32>(0.0);
             if (mi.moving != 0u) {

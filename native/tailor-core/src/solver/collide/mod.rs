@@ -513,11 +513,12 @@ impl Simulation {
     /// Friction is applied to positions (Macklin et al. 2014, Eq. 24), on the particle's
     /// displacement over the substep relative to the triangle's (its velocity at the contact's
     /// barycentric point times `h`): the tangential part is removed when under `μs·d`, else
-    /// shortened by `μk·d`, where `d = (x − y)·n` is how far the contact pushed the particle
-    /// out of its free-flight prediction (the normal impulse divided by `m/h`). This is
+    /// shortened by `μk·d`, where `d` is the normal impulse divided by `m/h`: the larger of
+    /// `(x − y)·n`, how far the contact pushed the particle out of its free-flight prediction,
+    /// and the contact's own push against the cloth ([`Self::contact_pushes`]). This is
     /// Coulomb's law on the relative velocity `Δx/h`; doing it on velocities only would let a
     /// resting particle creep `g·h²·sin θ` per substep down a slope steeper than nothing.
-    pub(crate) fn resolve_mesh_penetrations(&mut self, h: f32) {
+    pub(crate) fn resolve_mesh_penetrations(&mut self, h: f32, push: &[f32]) {
         if self.collide.meshes.is_empty() {
             return;
         }
@@ -547,7 +548,7 @@ impl Simulation {
             let m = &self.collide.meshes[(c & !MESH_CONTACT) as usize];
             let n = self.contacts.normal.get(i);
             let x = self.x.get(i);
-            let d = (x - self.y.get(i)).dot(n);
+            let d = (x - self.y.get(i)).dot(n).max(push[i]);
             if d <= 0.0 {
                 continue;
             }
@@ -565,6 +566,34 @@ impl Simulation {
         self.keep_corrections_in_front(&corrected);
         self.collide.stats.mesh_contacts = contacts;
         self.collide.stats.resolve_seconds += t0.elapsed().as_secs_f64();
+    }
+
+    /// The normal push of each particle's contact over the substep as a displacement, m: the
+    /// contact's force in the last local/global iteration, `w·((p − x)·n)` (its penalty weight
+    /// times how far the solve left the particle behind its target), times `h²/m`. It is what
+    /// the body pushes back against everything that presses the particle into it: gravity and
+    /// inertia, and the cloth's own tension, as a waistband's round the hips or a shirt's over
+    /// the shoulders. `(x − y)·n` alone (the contact's net effect on free flight) sees only
+    /// the first: where tension presses the cloth on and the body holds it, the two cancel,
+    /// and such contacts had no friction at all: the GarmentCode flared skirt's waistband slid
+    /// over the hips under 1 N of skirt even at friction 2, and fell to the floor.
+    /// Zero while the seams close (see there).
+    pub(crate) fn contact_pushes(&self, h: f32) -> Vec<f32> {
+        let (cs, x, mass) = (&self.contacts, &self.x, &self.model.mass);
+        if self.ramp_closing() {
+            // While seams close their pull is an assembly force: what it presses onto the body
+            // must slide there, as pieces slide into place over shoulders and hips.
+            return vec![0.0; x.len()];
+        }
+        (0..x.len())
+            .map(|i| {
+                if cs.weight[i] <= 0.0 || cs.collider[i] == u32::MAX {
+                    return 0.0;
+                }
+                let behind = (cs.target.get(i) - x.get(i)).dot(cs.normal.get(i)).max(0.0);
+                cs.weight[i] * behind * h * h / mass[i].max(f32::MIN_POSITIVE)
+            })
+            .collect()
     }
 
     /// A correction must not leave a particle behind a surface that its path from the

@@ -106,8 +106,14 @@ pub struct Particle {
     pub b_const: [f32; 3],
     pub mass: f32,
     pub pin_target: [f32; 3],
-    pub pinned: u32,
+    /// [`PARTICLE_PINNED`] | [`PARTICLE_SEWN`].
+    pub flags: u32,
 }
+
+/// `Particle::flags`: the particle is a hard pin (removed from the unknowns).
+pub const PARTICLE_PINNED: u32 = 1;
+/// `Particle::flags`: the particle is on a seam (`Model::sewn_particles`).
+pub const PARTICLE_SEWN: u32 = 2;
 
 /// Collider kinds as `Collider::kind` encodes them.
 pub const KIND_PLANE: u32 = 0;

@@ -124,8 +124,13 @@ struct Particle {
     b_const: vec3<f32>,
     mass: f32,
     pin_target: vec3<f32>,
-    pinned: u32,
+    // PARTICLE_PINNED | PARTICLE_SEWN
+    flags: u32,
 }
+
+// `common::PARTICLE_PINNED`, `common::PARTICLE_SEWN`.
+const PARTICLE_PINNED: u32 = 1u;
+const PARTICLE_SEWN: u32 = 2u;
 
 const KIND_PLANE: u32 = 0u;
 const KIND_SPHERE: u32 = 1u;

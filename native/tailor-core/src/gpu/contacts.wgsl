@@ -20,7 +20,7 @@ fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     var best = Contact(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), NO_COLLIDER, vec3<f32>(0.0), 0u);
-    if (particles[i].pinned == 0u) {
+    if ((particles[i].flags & PARTICLE_PINNED) == 0u) {
         let p = x[i].xyz;
         var deepest = F32_MAX;
         for (var c = 0u; c < params.n_colliders; c++) {

@@ -33,10 +33,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // The last iteration's contact force as a displacement (`contact_pushes`), before the
     // remaining penetrations are pushed out.
     var push = 0.0;
-    if (ct.weight > 0.0 && is_analytic(ct.collider)) {
+    if (ct.weight > 0.0 && is_analytic(ct.collider) && (particles[i].flags & PARTICLE_SEWN) == 0u) {
         push = ct.weight * max(dot(ct.target_pos - p, ct.normal), 0.0) * params.h * params.h / particles[i].mass;
     }
-    if (params.n_colliders > 0u && particles[i].pinned == 0u) {
+    if (params.n_colliders > 0u && (particles[i].flags & PARTICLE_PINNED) == 0u) {
         // `contacts::resolve_penetrations`, colliders in order.
         var touched = false;
         for (var c = 0u; c < params.n_colliders; c++) {

@@ -82,8 +82,8 @@ use crate::solver::collide::mesh_collider::{MeshCollider, PAD};
 use crate::solver::collide::CollisionStats;
 use collide_common::{buckets_for, MeshInfo, Meshes, TableInfo, MAX_MESHES};
 use common::{
-    Collider, Contact, Params, StepState, KIND_CAPSULE, KIND_PLANE, KIND_SPHERE, PHASE_CLOSING, PHASE_DONE,
-    PHASE_RELEASING,
+    Collider, Contact, Params, StepState, KIND_CAPSULE, KIND_PLANE, KIND_SPHERE, PARTICLE_PINNED, PARTICLE_SEWN,
+    PHASE_CLOSING, PHASE_DONE, PHASE_RELEASING,
 };
 use gauss_seidel::ColourRange;
 use predict::Particle;
@@ -734,12 +734,13 @@ impl GpuSolver {
         let vec4 = |s: &crate::solver::Vec3Soa| -> Vec<[f32; 4]> {
             (0..s.len()).map(|i| [s.x[i], s.y[i], s.z[i], 0.0]).collect()
         };
+        let sewn = m.sewn_particles();
         let particles: Vec<Particle> = (0..n)
             .map(|i| Particle {
                 b_const: m.b_const.get(i).to_array(),
                 mass: m.mass[i],
                 pin_target: view.pin_target.get(i).to_array(),
-                pinned: m.pinned[i] as u32,
+                flags: if m.pinned[i] { PARTICLE_PINNED } else { 0 } | if sewn[i] { PARTICLE_SEWN } else { 0 },
             })
             .collect();
         let (phase, elapsed) = phase_to_gpu(view.ramp_phase);

@@ -27,7 +27,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let xi = x[i].xyz;
     x_start[i] = vec4<f32>(xi, 0.0);
     var y: vec3<f32>;
-    if (p.pinned != 0u) {
+    if ((p.flags & PARTICLE_PINNED) != 0u) {
         y = p.pin_target;
     } else {
         y = xi + v[i].xyz * params.h + params.gravity * (params.h * params.h);

@@ -4,7 +4,7 @@
 // displacement relative to the touched triangle: with d the larger of (x − y)·n (how far the
 // contact pushed it out of free flight) and the last iteration's contact force as a
 // displacement, w·((p − x)·n)·h²/m (`contact_pushes`: the body pushing back against the
-// cloth's tension too), the tangential part of (x − x₀ − v_c·h) is removed when under μs·d,
+// cloth's tension too; not on sewn particles), the tangential part of (x − x₀ − v_c·h) is removed when under μs·d,
 // else shortened by μk·d. Runs before `finish` (analytic colliders, velocities). Frames whose
 // seams are still closing run on the CPU, so the frictionless closing is not ported.
 
@@ -26,7 +26,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let analytic = ct.weight > 0.0 && (ct.collider & MESH_CONTACT) == 0u;
     // The last iteration's contact force as a displacement (`contact_pushes`).
     var push = 0.0;
-    if (ct.weight > 0.0 && is_mesh(ct.collider)) {
+    if (ct.weight > 0.0 && is_mesh(ct.collider) && (particles[i].flags & PARTICLE_SEWN) == 0u) {
         let behind = max(dot(ct.target_pos - p, ct.normal), 0.0);
         push = ct.weight * behind * params.h * params.h / particles[i].mass;
     }

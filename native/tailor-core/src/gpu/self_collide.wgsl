@@ -83,7 +83,7 @@ fn friction_of(i: u32) -> vec2<f32> {
 
 fn inverse_mass(i: u32) -> f32 {
     let p = particles[i];
-    if (p.pinned != 0u) {
+    if ((p.flags & PARTICLE_PINNED) != 0u) {
         return 0.0;
     }
     return 1.0 / p.mass;

@@ -144,6 +144,15 @@ pub struct Model {
 }
 
 impl Model {
+    /// Whether each particle is on a seam (a vertex of some sewn pair's stencil).
+    pub fn sewn_particles(&self) -> Vec<bool> {
+        let mut sewn = vec![false; self.mass.len()];
+        for &v in &self.seam_pairs.verts {
+            sewn[v as usize] = true;
+        }
+        sewn
+    }
+
     pub fn new(mesh: ClothMesh, fabric: Fabric) -> Result<Self> {
         fabric.validate()?;
         let n = mesh.num_vertices();

@@ -7,7 +7,8 @@
 //! ([`snap_tolerance`](crate::triangulate::snap_tolerance)), with a warning per line clipped or
 //! dropped ([`PieceMesh::warnings`]). What still cannot be meshed (lines crossing each other)
 //! is the last resort here: a piece that fails *with* internal lines (or whose lines leave a
-//! triangle under 1°) but succeeds without them keeps, line by line in file order, each line
+//! triangle well under the piece's own smallest angle: [`LINE_ANGLE_SLACK_DEG`]) but succeeds
+//! without them keeps, line by line in file order, each line
 //! that still meshes together with the lines kept before it. Every warning is kept in
 //! `settings["import_warnings"]` (a list of strings) so callers can show it.
 
@@ -23,18 +24,24 @@ use crate::pattern::{read_pattern, Pattern, Piece, ReadOptions};
 use crate::seam::SeamMode;
 use crate::triangulate::{triangulate_piece, PieceMesh, TriangulateOptions};
 
-/// Below this angle (degrees) a triangle along an internal line is a sliver the solver may
-/// refuse as degenerate in f32: the lines are then treated as failing (and dropped by the
-/// retry below). Pieces without lines are meshed as they are.
-const LINE_SLIVER_DEG: f64 = 1.0;
+/// Internal lines may not make a piece's mesh worse than it is without them: a mesh with lines
+/// whose smallest angle is more than this many degrees under the smaller of the piece's own
+/// (without lines) and the stated minimum (`TriangulateOptions::min_angle_deg`) is refused, and
+/// the lines are kept one by one (below). A line that meets the outline at a grazing angle
+/// leaves such a sliver wherever it is snapped: the women's tank DXF at 3 cm had an 8.5°
+/// triangle beside a line (28.5° without it), and a 1° sliver may be refused by the solver as
+/// degenerate in f32.
+const LINE_ANGLE_SLACK_DEG: f64 = 2.0;
 
-/// [`triangulate_piece`], refusing a mesh whose internal lines left a sliver.
-fn triangulate_checked(piece: &Piece, options: &TriangulateOptions) -> Result<PieceMesh> {
+/// [`triangulate_piece`], refusing a mesh whose internal lines left a triangle more than
+/// [`LINE_ANGLE_SLACK_DEG`] under `floor` (the piece's own minimum angle without lines, at most
+/// the stated one).
+fn triangulate_checked(piece: &Piece, options: &TriangulateOptions, floor: f64) -> Result<PieceMesh> {
     let m = triangulate_piece(piece, options)?;
-    if !piece.internal_lines.is_empty() && m.quality.min_angle_deg < LINE_SLIVER_DEG {
+    if !piece.internal_lines.is_empty() && m.quality.min_angle_deg < floor - LINE_ANGLE_SLACK_DEG {
         return Err(crate::error::TailorError::shape(
             format!("piece {}", piece.name),
-            format!("its internal lines leave a {:.3}° triangle", m.quality.min_angle_deg),
+            format!("its internal lines leave a {:.3}° triangle ({:.1}° without them)", m.quality.min_angle_deg, floor),
         ));
     }
     Ok(m)
@@ -50,25 +57,32 @@ fn with_lines(piece: &Piece, keep: &[usize]) -> Piece {
 /// triangulate with those kept before them (none, at worst). Returns the piece as meshed, its mesh, and the triangulation's
 /// warnings plus one when lines were dropped here.
 fn mesh_piece(piece: &Piece, options: &TriangulateOptions) -> Result<(Piece, PieceMesh, Vec<String>)> {
-    let e = match triangulate_checked(piece, options) {
+    if piece.internal_lines.is_empty() {
+        let m = triangulate_piece(piece, options)?;
+        let w = m.warnings.clone();
+        return Ok((piece.clone(), m, w));
+    }
+    let bare = with_lines(piece, &[]);
+    let bare_mesh = triangulate_piece(&bare, options);
+    let floor =
+        bare_mesh.as_ref().map_or(options.min_angle_deg, |m| m.quality.min_angle_deg.min(options.min_angle_deg));
+    let e = match triangulate_checked(piece, options, floor) {
         Ok(m) => {
             let w = m.warnings.clone();
             return Ok((piece.clone(), m, w));
         }
-        Err(e) if !piece.internal_lines.is_empty() => e,
-        Err(e) => return Err(e),
+        Err(e) => e,
     };
     let all = piece.internal_lines.len();
     // Nothing to salvage if the piece fails even without lines.
-    let bare = with_lines(piece, &[]);
-    let bare_mesh = triangulate_piece(&bare, options).map_err(|_| e.clone())?;
+    let bare_mesh = bare_mesh.map_err(|_| e.clone())?;
     // Greedily: each line in turn is kept if the piece still meshes with it and those kept.
     let mut good: Vec<usize> = Vec::new();
     let mut best: Option<PieceMesh> = None;
     for k in 0..all {
         let mut trial = good.clone();
         trial.push(k);
-        if let Ok(m) = triangulate_checked(&with_lines(piece, &trial), options) {
+        if let Ok(m) = triangulate_checked(&with_lines(piece, &trial), options, floor) {
             good = trial;
             best = Some(m);
         }

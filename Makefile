@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
+.PHONY: drape-suite demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -45,6 +45,13 @@ addon: $(ADDON_ZIP)
 
 $(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
 	$(PY) addon/build_addon.py -o $@
+
+## Assembly on patterns nobody tuned: random GarmentCode designs (../shared/tools/garmentcode)
+## imported and simulated with default settings, judged by `tailor simulate`'s own checks;
+## prints the share that succeed, pictures of the failures in out/drape-suite/failures
+## (docs/benchmarks.md, "Drape suite"). DRAPE_ARGS, e.g. --seed 18 --count 30.
+drape-suite: develop
+	$(PY) bench/drape_suite/run.py $(DRAPE_ARGS)
 
 ## Benchmarks (print figures; not part of the tests).
 bench: develop

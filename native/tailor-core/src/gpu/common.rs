@@ -112,7 +112,7 @@ pub struct Particle {
 
 /// `Particle::flags`: the particle is a hard pin (removed from the unknowns).
 pub const PARTICLE_PINNED: u32 = 1;
-/// `Particle::flags`: the particle is on a seam (`Model::sewn_particles`).
+/// `Particle::flags`: the particle is on a seam (`Model::sewn`).
 pub const PARTICLE_SEWN: u32 = 2;
 
 /// Collider kinds as `Collider::kind` encodes them.

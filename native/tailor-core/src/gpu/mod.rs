@@ -734,7 +734,7 @@ impl GpuSolver {
         let vec4 = |s: &crate::solver::Vec3Soa| -> Vec<[f32; 4]> {
             (0..s.len()).map(|i| [s.x[i], s.y[i], s.z[i], 0.0]).collect()
         };
-        let sewn = m.sewn_particles();
+        let sewn = &m.sewn;
         let particles: Vec<Particle> = (0..n)
             .map(|i| Particle {
                 b_const: m.b_const.get(i).to_array(),

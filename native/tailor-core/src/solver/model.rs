@@ -131,6 +131,8 @@ pub struct Model {
     /// Attachments to points riding on mesh colliders (targets set every substep).
     pub collider_attachments: Vec<ColliderAttachment>,
     pub pinned: Vec<bool>,
+    /// Whether each particle is on a seam (a vertex of some sewn pair's stencil).
+    pub sewn: Vec<bool>,
     // Derived, rebuilt when `dirty`.
     pub dirty: bool,
     /// Times the matrix, colouring and slot layout were rebuilt (they are kept while the
@@ -144,15 +146,6 @@ pub struct Model {
 }
 
 impl Model {
-    /// Whether each particle is on a seam (a vertex of some sewn pair's stencil).
-    pub fn sewn_particles(&self) -> Vec<bool> {
-        let mut sewn = vec![false; self.mass.len()];
-        for &v in &self.seam_pairs.verts {
-            sewn[v as usize] = true;
-        }
-        sewn
-    }
-
     pub fn new(mesh: ClothMesh, fabric: Fabric) -> Result<Self> {
         fabric.validate()?;
         let n = mesh.num_vertices();
@@ -200,6 +193,7 @@ impl Model {
             attachments: Vec::new(),
             collider_attachments: Vec::new(),
             pinned: vec![false; n],
+            sewn: vec![false; n],
             dirty: true,
             rebuilds: 0,
             matrix32: SparseSym32::default(),
@@ -234,6 +228,7 @@ impl Model {
             + vec_bytes(&self.attachments)
             + vec_bytes(&self.collider_attachments)
             + vec_bytes(&self.pinned)
+            + vec_bytes(&self.sewn)
             + self.matrix32.memory_bytes()
             + self.colouring.memory_bytes()
             + self.slots.memory_bytes()
@@ -325,7 +320,11 @@ impl Model {
     /// Adds a seam (validated against this mesh). Returns the number of hinges it created.
     pub fn add_seam(&mut self, seam: Seam) -> Result<usize> {
         seam.validate(self.n())?;
+        let first = self.seam_pairs.verts.len();
         seam.push_pairs(&mut self.seam_pairs);
+        for &v in &self.seam_pairs.verts[first..] {
+            self.sewn[v as usize] = true;
+        }
         let boundary = BoundaryEdges::new(&self.mesh);
         let hinges = seam.push_hinges(&self.mesh, &boundary, &mut self.seam_hinges);
         self.seams.push(seam);

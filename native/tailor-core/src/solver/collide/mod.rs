@@ -577,7 +577,7 @@ impl Simulation {
     /// the first: where tension presses the cloth on and the body holds it, the two cancel,
     /// and such contacts had no friction at all: the GarmentCode flared skirt's waistband slid
     /// over the hips under 1 N of skirt even at friction 2, and fell to the floor.
-    /// Zero while the seams close (see there), and on sewn particles (`Model::sewn_particles`):
+    /// Zero while the seams close (see there), and on sewn particles (`Model::sewn`):
     /// a seam's two sides are one line of the garment, and the body's grip on them held the
     /// last millimetres open against the seam (the sample skirt's waistband side seams 1.9 mm,
     /// the T-shirt's 2.6 mm at worst; 0.5 and 0.25 mm without it). The cloth round a seam
@@ -589,7 +589,7 @@ impl Simulation {
             // must slide there, as pieces slide into place over shoulders and hips.
             return vec![0.0; x.len()];
         }
-        let sewn = self.model.sewn_particles();
+        let sewn = &self.model.sewn;
         (0..x.len())
             .map(|i| {
                 if cs.weight[i] <= 0.0 || cs.collider[i] == u32::MAX || sewn[i] {

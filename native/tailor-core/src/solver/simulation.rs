@@ -64,8 +64,10 @@ pub struct Simulation {
     pub(crate) h_prepared: f32,
     /// Some seam pair still has a non-zero closing rest length.
     seams_closing: bool,
-    /// Each seam pair's gap when it was added, m (the closing schedule's measure).
+    /// Each seam pair's closing schedule, m: its gap when it was added, and what is left of
+    /// it (the pair's rest length is never above this; 0 when the pair's schedule is done).
     closing_gap0: Vec<f32>,
+    closing_left: Vec<f32>,
     pub(crate) sleep: Sleep,
     /// `‖M·g‖` over the free particles, N: the force scale of the early-termination test.
     weight_norm: f64,
@@ -123,6 +125,7 @@ impl Simulation {
             h_prepared: 0.0,
             seams_closing: false,
             closing_gap0: Vec::new(),
+            closing_left: Vec::new(),
             sleep: Sleep::default(),
             weight_norm: 0.0,
             time: 0.0,
@@ -273,8 +276,10 @@ impl Simulation {
                 self.seams_closing |= pairs.rest[s] > 0.0;
             }
             self.closing_gap0.resize(pairs.len(), 0.0);
+            self.closing_left.resize(pairs.len(), 0.0);
             for s in first..pairs.len() {
                 self.closing_gap0[s] = pairs.rest[s];
+                self.closing_left[s] = pairs.rest[s];
             }
         }
         self.collide.invalidate_topology();
@@ -506,27 +511,24 @@ impl Simulation {
     }
 
     /// Prediction stage: `y`, pins, initial guess, fixed right-hand side.
-    /// Shrinks the rest length of seam pairs that are still closing: the widest pair (by its
-    /// gap when it was sewn) by `closing_speed·h`, every other pair by its share of that, so
-    /// all pairs meet together (never above the current gap, so a pair that closed faster is
-    /// not pushed apart). See `SeamRamp::closing_speed` for why all at once.
+    /// Advances the seams' closing schedule: what is left of each pair's schedule shrinks, the
+    /// widest pair's (by its gap when it was sewn) by `closing_speed·h`, every other's by its
+    /// share of that, so that all pairs' schedules run out together; a pair's rest length is
+    /// what is left of its schedule, never above its current gap (a pair that closed faster is
+    /// not pushed apart). See `SeamRamp::closing_speed` for why all at once. The schedule runs
+    /// on time alone: shrinking the rest length from the current gap instead never ran out for
+    /// a short pair held a fraction of a millimetre open, whose share of the step is tiny, so
+    /// the garment counted as still closing (and stayed off the GPU) for good.
     fn close_seams(&mut self, h: f32) {
         let speed = if self.settings.ramp.enabled { self.settings.ramp.closing_speed } else { f32::INFINITY };
-        // The widest pair still closing goes at `closing_speed`, every other in proportion to
-        // its own gap.
-        let pairs = &mut self.model.seam_pairs;
-        let gap0 = |s: usize| self.closing_gap0.get(s).copied().unwrap_or(0.0);
-        let widest = (0..pairs.len())
-            .filter(|&s| pairs.rest[s] > 0.0)
-            .map(|s| gap0(s).max(pairs.rest[s]))
-            .fold(f32::MIN_POSITIVE, f32::max);
+        let (pairs, gap0, left) = (&mut self.model.seam_pairs, &self.closing_gap0, &mut self.closing_left);
+        let widest = (0..left.len()).filter(|&s| left[s] > 0.0).map(|s| gap0[s]).fold(f32::MIN_POSITIVE, f32::max);
         let mut open = false;
-        for s in 0..pairs.len() {
-            if pairs.rest[s] > 0.0 {
-                let gap = pairs.vector(s, &self.x).length();
-                let step = speed * h * (gap0(s).max(pairs.rest[s]) / widest);
-                pairs.rest[s] = (pairs.rest[s].min(gap) - step).max(0.0);
-                open |= pairs.rest[s] > 0.0;
+        for s in 0..left.len() {
+            if left[s] > 0.0 {
+                left[s] = (left[s] - speed * h * (gap0[s] / widest)).max(0.0);
+                pairs.rest[s] = left[s].min(pairs.vector(s, &self.x).length());
+                open |= left[s] > 0.0;
             }
         }
         self.seams_closing = open;

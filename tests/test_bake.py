@@ -172,6 +172,10 @@ def test_records_judge_the_garment_on_the_body_and_the_summary_gives_the_verdict
     s = bake.summarize(assembling + run.records[2:4])
     assert s["assembled_frames"] == 2 and s["on_body_fraction"] == 1.0 and s["verdict"] == []
     assert "still assembling" in bake.summary_text(bake.summarize(assembling))
+    # A run that ends still assembling was never judged on the body: it fails "open" at its end.
+    s = bake.summarize(assembling)
+    assert [(v["check"], v["frame"]) for v in s["verdict"]] == [("open", 2)], s["verdict"]
+    assert "still closing at the last frame" in s["verdict"][0]["reason"]
 
 
 def test_judge_states_its_thresholds_and_refuses_a_dict_it_cannot_read(square):

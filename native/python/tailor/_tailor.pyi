@@ -213,6 +213,11 @@ def count_self_intersections(vertices: ArrayLike, triangles_: ArrayLike) -> int:
 def edge_strain(positions: ArrayLike, edges: ArrayLike, rest_lengths: ArrayLike) -> dict[str, float]: ...
 def kinetic_energy(velocities: ArrayLike, masses: ArrayLike) -> float: ...
 def max_seam_gap(positions: ArrayLike, pairs_: ArrayLike) -> float: ...
+def judge_unfinished(seams_closing: bool, seam_gap: float) -> dict[str, Any] | None:
+    """The verdict on a run's last frame beyond `judge`'s: {"check": "open", "reason"} when its
+    seams were still closing (the run ended before the garment was assembled, so `judge` judged
+    none of its frames but on NaN), else None. `seam_gap` is that frame's widest gap, metres."""
+
 def judge(metrics: dict[str, Any], start: dict[str, Any] | None = None, nan: bool = False) -> dict[str, Any]:
     """The checks a frame fails, given its `Simulation.metrics` (with a collider), those of the
     frame the run started from (`start`; the frame itself when None) and whether its solve

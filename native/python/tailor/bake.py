@@ -31,7 +31,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from tailor._tailor import (VERDICT_THRESHOLDS, CancelledError, InvalidParameterError, SimulationError, Simulation,
-                            judge, write_pc2)
+                            judge, judge_unfinished, write_pc2)
 
 #: Quality fields of a frame record, each worst-case (largest) over frames in a summary.
 FIELDS = ("seam_gap_max_m", "penetration_count", "penetration_max_m", "self_intersections", "strain_max")
@@ -92,11 +92,20 @@ def on_body_worst(records: Sequence[dict]) -> dict:
 
 def verdict_of(records: Sequence[dict]) -> list[dict]:
     """Each check some record failed (its `failed`, from `tailor.judge`), in `judge`'s order, with
-    the first frame that failed it and that frame's reason: {"check", "frame", "reason"}."""
+    the first frame that failed it and that frame's reason: {"check", "frame", "reason"}; and
+    "open" when the last record still had seams closing (`tailor.judge_unfinished`: the run
+    ended before the garment was assembled)."""
     first: dict[str, dict] = {}
     for r in records:
         for f in r.get("failed", ()):
             first.setdefault(f["check"], {"check": f["check"], "frame": r["frame"], "reason": f["reason"]})
+    if records:
+        last = records[-1]
+        # (a bake record's gap is `seam_gap_max_m`, `tailor.commands.on_character.quality`'s `seam_gap_m`)
+        gap = last["seam_gap_max_m"] if "seam_gap_max_m" in last else last.get("seam_gap_m", 0.0)
+        f = judge_unfinished(bool(last.get("seams_closing", False)), float(gap))
+        if f is not None:
+            first.setdefault(f["check"], {"check": f["check"], "frame": last["frame"], "reason": f["reason"]})
     return [first[c] for c in VERDICT_THRESHOLDS["checks"] if c in first]
 
 

@@ -160,6 +160,24 @@ pub fn judge<'py>(
     Ok(d)
 }
 
+/// `tailor.judge_unfinished`: the "open" failure of a run whose last frame still had seams
+/// closing (`verdict::judge_unfinished`), or None.
+#[pyfunction]
+pub fn judge_unfinished<'py>(
+    py: Python<'py>,
+    seams_closing: bool,
+    seam_gap: f32,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    verdict::judge_unfinished(seams_closing, seam_gap)
+        .map(|f| {
+            let e = PyDict::new(py);
+            e.set_item("check", f.check.name())?;
+            e.set_item("reason", f.reason)?;
+            Ok(e)
+        })
+        .transpose()
+}
+
 /// The verdict's thresholds by name (`tailor.VERDICT_THRESHOLDS`), as the shortest decimals
 /// that round to them (0.1, not 0.10000000149).
 pub fn verdict_thresholds<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

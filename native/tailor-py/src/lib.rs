@@ -39,6 +39,7 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(colliders::kinetic_energy, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::max_seam_gap, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::judge, m)?)?;
+    m.add_function(wrap_pyfunction!(colliders::judge_unfinished, m)?)?;
     m.add("VERDICT_THRESHOLDS", colliders::verdict_thresholds(m.py())?)?;
     patterns::register(m)?;
     contour::register(m)?;

@@ -75,6 +75,18 @@ pub struct Failure {
     pub reason: String,
 }
 
+/// The verdict on a run's last frame beyond [`judge`]'s: a run that ends while its seams are
+/// still closing was never assembled, and [`judge`] judged none of its frames but on NaN, so it
+/// would pass with its seams any width apart (a long tiered skirt on the walk, placed 1.3 m and
+/// more from its partner pieces, ended with a seam 53 cm open and an empty verdict). Such a run
+/// fails "open". `seam_gap` is that frame's widest seam gap, metres.
+pub fn judge_unfinished(seams_closing: bool, seam_gap: f32) -> Option<Failure> {
+    seams_closing.then(|| Failure {
+        check: Check::Open,
+        reason: format!("the seams were still closing at the last frame, the widest {} apart", metres(seam_gap)),
+    })
+}
+
 /// How far the cloth's centroid moved from `start` to `now`, metres: relative to the
 /// collider's surface centroid when both frames have one (a body that walks carries the
 /// garment with it; only the garment's motion on the body counts), else absolute.
@@ -281,5 +293,13 @@ mod tests {
         };
         assert_eq!(checks(&judge(&all, &start, true)), ["fell", "open", "inside", "nan"]);
         assert_eq!(Check::ALL.map(Check::name), ["fell", "open", "inside", "nan"]);
+    }
+
+    #[test]
+    fn a_run_that_ends_still_closing_fails_open() {
+        assert_eq!(judge_unfinished(false, 0.5), None);
+        let f = judge_unfinished(true, 0.53).expect("still closing at the end");
+        assert_eq!(f.check, Check::Open);
+        assert!(f.reason.contains("still closing"), "{}", f.reason);
     }
 }

@@ -1,17 +1,21 @@
 """Assembly on patterns nobody tuned (``make drape-suite``): random GarmentCode designs, imported
 and simulated with default settings exactly as a user would, and judged by Tailor's own checks.
 
-    python bench/drape_suite/run.py [--seed 18] [--count 30] [--frames 120] [--edge 0.02]
-        [--out out/drape-suite] [--sampler ../shared/tools/garmentcode/run] [--data ../shared/data]
+    python bench/drape_suite/run.py [--seed 18] [--count 30] [--frames 90] [--edge 0.02]
+        [--no-walk] [--out out/drape-suite] [--sampler ../shared/tools/garmentcode/run]
+        [--data ../shared/data] [--designs FOLDER]
 
 For each design the sampler writes (shirts, skirts of many kinds, trousers, waistbands and their
 combinations, fitted to the GarmentCode mean body), the suite runs
 ``python -m tailor import SPEC --edge EDGE`` and ``python -m tailor simulate GARMENT --collider
 BODY --frames N`` (the body with its legs apart for designs with trousers, as GarmentCode's own
 draping does), one fresh process each, and reads the verdict ``tailor simulate`` wrote into its
-report (on the body, seams closed, nothing inside the body, no NaN). It prints one line per
-design and the share that succeed, and writes ``OUT/summary.json``, ``OUT/table.md`` and a
-picture of every failure (``OUT/failures/NAME.png``: the last frame, front and side).
+report (on the body, seams closed, nothing inside the body, no NaN). Then, unless ``--no-walk``,
+the walk: ``python -m tailor demo --garment GARMENT --no-render`` on the walking sample character
+(the same body, rigged): assembled at its rest pose, blended into the walk, one cycle, judged by
+the same checks. It prints one line per design and the shares that succeed, and writes
+``OUT/summary.json``, ``OUT/table.md`` and a picture of every failure at rest
+(``OUT/failures/NAME.png``: the last frame, front and side).
 """
 
 from __future__ import annotations
@@ -36,7 +40,8 @@ def parse_args(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--seed", type=int, default=18)
     p.add_argument("--count", type=int, default=30)
-    p.add_argument("--frames", type=int, default=120, help="frames at rest on the body (30 fps)")
+    p.add_argument("--frames", type=int, default=90, help="frames at rest on the body (30 fps)")
+    p.add_argument("--no-walk", dest="walk", action="store_false", help="skip the walk on the sample character")
     p.add_argument("--edge", type=float, default=0.02)
     p.add_argument("--out", default=str(REPO / "out" / "drape-suite"))
     p.add_argument("--sampler", default=str(REPO.parent / "shared" / "tools" / "garmentcode" / "run"))
@@ -70,13 +75,15 @@ def run_one(name: str, spec: Path, kind: dict, body: Path, args, work: Path) -> 
     imp = subprocess.run([py, "-m", "tailor", "import", str(spec), "--edge", str(args.edge), "-o", str(garment)],
                          capture_output=True, text=True)
     if imp.returncode != 0:
-        return {**row, "ok": False, "failed": ["import"], "error": (imp.stderr or imp.stdout).strip()[-300:]}
+        return {**row, "ok": False, "failed": ["import"], "walk_ok": False, "walk_failed": ["import"],
+                "error": (imp.stderr or imp.stdout).strip()[-300:]}
     sim = subprocess.run([py, "-m", "tailor", "simulate", str(garment), "--collider", str(body), "--frames",
                           str(args.frames), "--report", str(report), "-o", str(cache)], capture_output=True, text=True)
     row["seconds"] = round(time.perf_counter() - t0, 1)
     row["exit"] = sim.returncode
     if not report.exists():
-        return {**row, "ok": False, "failed": ["simulate"], "error": (sim.stderr or sim.stdout).strip()[-300:]}
+        return {**row, "ok": False, "failed": ["simulate"], "walk_ok": False, "walk_failed": ["simulate"],
+                "error": (sim.stderr or sim.stdout).strip()[-300:]}
     rep = json.loads(report.read_text())
     last = rep["frames"][-1]
     verdict = rep["summary"]["verdict"]  # each failed check with its first frame: [] passes
@@ -88,6 +95,19 @@ def run_one(name: str, spec: Path, kind: dict, body: Path, args, work: Path) -> 
         seam_gap_mm=round(float(last["seam_gap_max_m"]) * 1e3, 2),
         penetration=int(last["penetration_count"]),
     )
+    if args.walk:
+        demo = work / f"{name}-walk"
+        w = subprocess.run([py, "-m", "tailor", "demo", "--garment", str(garment), "--no-render", "--frames", "32",
+                            "--out", str(demo)], capture_output=True, text=True)
+        report = demo / "report.json"
+        if report.exists():
+            ws = json.loads(report.read_text())["summary"]
+            row.update(walk_ok=not ws["verdict"], walk_failed=[f"{v['check']}@{v['frame']}" for v in ws["verdict"]],
+                       walk_shift_m=round(float(ws["centroid_shift_m"] or 0.0), 3),
+                       walk_seam_gap_mm=round(float(ws["phases"]["animate"]["seam_gap_max_m"]) * 1e3, 2))
+        else:
+            row.update(walk_ok=False, walk_failed=["demo"], walk_error=(w.stderr or w.stdout).strip()[-300:])
+        row["seconds"] = round(time.perf_counter() - t0, 1)
     return row
 
 
@@ -114,22 +134,32 @@ def main(argv=None) -> int:
             last = tailor.read_pc2(str(cache))["frames"][-1]
             picture.garment_on_body(bv, last, f"{name} {row['kind']}: {', '.join(row['failed'])}",
                                     str(out / "failures" / f"{name}.png"))
-        print(f"{name:12s} {row['kind']:32s} {'ok  ' if row['ok'] else 'FAIL'} {','.join(row['failed']):18s} "
-              f"on body {row.get('on_body', float('nan')):.2f} shift {row.get('shift_m', float('nan')):6.2f} m "
-              f"gap {row.get('seam_gap_mm', float('nan')):7.2f} mm  {row.get('seconds', 0):6.1f} s", flush=True)
+        walk = ("" if not args.walk else
+                f" | walk {'ok  ' if row.get('walk_ok') else 'FAIL'} {','.join(row.get('walk_failed', [])):12s} "
+                f"shift {row.get('walk_shift_m', float('nan')):5.2f} m gap {row.get('walk_seam_gap_mm', float('nan')):6.2f} mm")
+        print(f"{name:12s} {row['kind']:34s} rest {'ok  ' if row['ok'] else 'FAIL'} {','.join(row['failed']):12s} "
+              f"on body {row.get('on_body', float('nan')):.2f} shift {row.get('shift_m', float('nan')):5.2f} m "
+              f"gap {row.get('seam_gap_mm', float('nan')):6.2f} mm{walk}  {row.get('seconds', 0):6.1f} s", flush=True)
     ok = sum(r["ok"] for r in rows)
+    walk_ok = sum(bool(r.get("walk_ok")) for r in rows) if args.walk else None
     secs = [r["seconds"] for r in rows if "seconds" in r]
     summary = {"seed": args.seed, "count": len(rows), "frames": args.frames, "edge_m": args.edge,
-               "succeeded": ok, "share": ok / max(len(rows), 1),
+               "succeeded": ok, "share": ok / max(len(rows), 1), "walk_succeeded": walk_ok,
+               "walk_share": None if walk_ok is None else walk_ok / max(len(rows), 1),
                "median_seconds_per_design": float(np.median(secs)) if secs else None, "designs": rows}
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
-    lines = ["| design | kind | verdict | on body | centroid shift (m) | seam gap (mm) | s |", "|---|---|---|---|---|---|---|"]
+    lines = ["| design | kind | at rest | on body | centroid shift (m) | seam gap (mm) | walk | walk: shift (m), seam gap (mm) | s |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    verdict = lambda ok, failed: "ok" if ok else "fails: " + ", ".join(failed)  # noqa: E731
     for r in rows:
-        lines.append(f"| {r['design']} | {r['kind']} | {'ok' if r['ok'] else 'fails: ' + ', '.join(r['failed'])} | "
-                     f"{r.get('on_body', '')} | {r.get('shift_m', '')} | {r.get('seam_gap_mm', '')} | {r.get('seconds', '')} |")
+        lines.append(f"| {r['design']} | {r['kind']} | {verdict(r['ok'], r['failed'])} | {r.get('on_body', '')} | "
+                     f"{r.get('shift_m', '')} | {r.get('seam_gap_mm', '')} | "
+                     f"{verdict(r.get('walk_ok'), r.get('walk_failed', [])) if args.walk else ''} | "
+                     f"{r.get('walk_shift_m', '')}, {r.get('walk_seam_gap_mm', '')} | {r.get('seconds', '')} |")
     (out / "table.md").write_text("\n".join(lines) + "\n")
+    walked = "" if walk_ok is None else f"; through the walk {walk_ok} ({100 * summary['walk_share']:.0f} %)"
     print(f"drape-suite: seed {args.seed}, {len(rows)} designs, {args.frames} frames at rest: {ok} succeed "
-          f"({100 * summary['share']:.0f} %), median {summary['median_seconds_per_design']} s per design; "
+          f"({100 * summary['share']:.0f} %){walked}; median {summary['median_seconds_per_design']} s per design; "
           f"{out / 'table.md'}, failures' pictures in {out / 'failures'}")
     return 0
 

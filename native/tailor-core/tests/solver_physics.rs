@@ -174,6 +174,56 @@ fn seams_close_at_the_closing_speed() {
     assert!(first < 2e-3, "speed 0 should close at once, gap {first}");
 }
 
+/// All seam pairs meet together: a tube whose back panel is turned away on one side (its left
+/// seam 10 cm open, its right 40 cm) closes both within a frame of each other, when the widest
+/// pair's schedule at `closing_speed` runs out (0.4 m at 0.5 m/s: 0.8 s). At one speed for all
+/// pairs the left seam met after about 0.2 s, while the right was still 30 cm apart.
+#[test]
+fn all_seam_pairs_meet_together() {
+    let tube = sewn_tube(0.3, 0.3, 0.03, 0.1, 0.0, 2000.0).unwrap();
+    let nv = tube.panel_vertices;
+    // Turn the back panel (y = +0.05) away about its left edge (x = −0.15): y grows with x.
+    let positions: Vec<[f32; 3]> = tube
+        .mesh
+        .positions()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| if i < nv { *p } else { [p[0], p[1] + (p[0] + 0.15), p[2]] })
+        .collect();
+    let mesh = ClothMesh::new(positions, tube.mesh.rest().to_vec(), tube.mesh.triangles().to_vec()).unwrap();
+    let settings = SolverSettings { gravity: [0.0; 3], ..Default::default() };
+    let mut sim = Simulation::new(mesh, Fabric::default(), settings).unwrap();
+    for s in tube.seams.clone() {
+        sim.add_seam(s).unwrap();
+    }
+    let gap = |sim: &Simulation, seam: &tailor_core::solver::Seam| -> f32 {
+        let x = sim.positions().to_aos();
+        seam.pairs
+            .iter()
+            .map(|(a, b)| {
+                let (a, b) = (x[a.verts[0] as usize], x[b.verts[0] as usize]);
+                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+            })
+            .fold(0.0, f32::max)
+    };
+    let (left0, right0) = (gap(&sim, &tube.seams[0]), gap(&sim, &tube.seams[1]));
+    assert!((left0 - 0.1).abs() < 0.01 && (right0 - 0.4).abs() < 0.01, "{left0} {right0}");
+    let (mut met_left, mut met_right) = (None, None);
+    for f in 1..=45u32 {
+        sim.step(1.0 / 30.0).unwrap();
+        if met_left.is_none() && gap(&sim, &tube.seams[0]) < 5e-3 {
+            met_left = Some(f);
+        }
+        if met_right.is_none() && gap(&sim, &tube.seams[1]) < 5e-3 {
+            met_right = Some(f);
+        }
+    }
+    let (l, r) = (met_left.expect("left seam never met"), met_right.expect("right seam never met"));
+    println!("left seam met at frame {l}, right at frame {r}");
+    assert!(l.abs_diff(r) <= 1, "met at frames {l} and {r}");
+    assert!((22..=28).contains(&r), "the widest pair's schedule is 0.8 s (frame 24), met at {r}");
+}
+
 /// A 10 × 5 cm strip held flat along its first 1 cm and left to sag under gravity for 30
 /// frames, its bending resisting. `per_triangle` sets every triangle's bending stiffness
 /// through `set_triangle_bending` after building with `fabric_bend`. Returns the positions.

@@ -673,8 +673,8 @@ impl Simulation {
     /// Damping stage: penetrations, velocities, friction, air damping, ramp.
     fn finish_substep(&mut self, h: f32) {
         // The contacts' pushes as the iterations left them, before any is resolved.
-        let push = self.contact_pushes(h);
-        self.resolve_mesh_penetrations(h, &push);
+        self.contact_pushes(h);
+        self.resolve_mesh_penetrations(h);
         if !self.colliders.is_empty() {
             resolve_penetrations(&self.colliders, self.thickness, &mut self.x, &self.model.pinned);
         }
@@ -688,7 +688,7 @@ impl Simulation {
                 let col = &self.colliders[c as usize];
                 let n = self.contacts.normal.get(i);
                 let v_pred = (self.y.get(i) - self.x_start.get(i)) * inv_h;
-                let dvn = (v - v_pred).dot(n).max(push[i] * inv_h).max(0.0);
+                let dvn = (v - v_pred).dot(n).max(self.collide.pushes[i] * inv_h).max(0.0);
                 v = coulomb(v, n, dvn, col.static_friction, col.kinetic_friction);
             }
             self.v.set(i, v * damping);

@@ -128,6 +128,8 @@ pub struct QualityMetrics {
 /// Collision state of a simulation.
 #[derive(Debug, Default)]
 pub(crate) struct Collisions {
+    /// Each contact's push against the cloth this substep ([`Simulation::contact_pushes`]).
+    pub(crate) pushes: Vec<f32>,
     pub(crate) meshes: Vec<MeshCollider>,
     pub(crate) levels: Vec<i32>,
     pub(crate) friction: Option<(Vec<f32>, Vec<f32>)>,
@@ -518,7 +520,7 @@ impl Simulation {
     /// and the contact's own push against the cloth ([`Self::contact_pushes`]). This is
     /// Coulomb's law on the relative velocity `Δx/h`; doing it on velocities only would let a
     /// resting particle creep `g·h²·sin θ` per substep down a slope steeper than nothing.
-    pub(crate) fn resolve_mesh_penetrations(&mut self, h: f32, push: &[f32]) {
+    pub(crate) fn resolve_mesh_penetrations(&mut self, h: f32) {
         if self.collide.meshes.is_empty() {
             return;
         }
@@ -548,7 +550,7 @@ impl Simulation {
             let m = &self.collide.meshes[(c & !MESH_CONTACT) as usize];
             let n = self.contacts.normal.get(i);
             let x = self.x.get(i);
-            let d = (x - self.y.get(i)).dot(n).max(push[i]);
+            let d = (x - self.y.get(i)).dot(n).max(self.collide.pushes[i]);
             if d <= 0.0 {
                 continue;
             }
@@ -582,23 +584,22 @@ impl Simulation {
     /// last millimetres open against the seam (the sample skirt's waistband side seams 1.9 mm,
     /// the T-shirt's 2.6 mm at worst; 0.5 and 0.25 mm without it). The cloth round a seam
     /// still holds the garment.
-    pub(crate) fn contact_pushes(&self, h: f32) -> Vec<f32> {
-        let (cs, x, mass) = (&self.contacts, &self.x, &self.model.mass);
-        if self.ramp_closing() {
+    /// Fills `collide.pushes` (reused, no allocation once warm).
+    pub(crate) fn contact_pushes(&mut self, h: f32) {
+        let mut push = std::mem::take(&mut self.collide.pushes);
+        push.clear();
+        let closing = self.ramp_closing();
+        let (cs, x, mass, sewn) = (&self.contacts, &self.x, &self.model.mass, &self.model.sewn);
+        push.extend((0..x.len()).map(|i| {
             // While seams close their pull is an assembly force: what it presses onto the body
             // must slide there, as pieces slide into place over shoulders and hips.
-            return vec![0.0; x.len()];
-        }
-        let sewn = &self.model.sewn;
-        (0..x.len())
-            .map(|i| {
-                if cs.weight[i] <= 0.0 || cs.collider[i] == u32::MAX || sewn[i] {
-                    return 0.0;
-                }
-                let behind = (cs.target.get(i) - x.get(i)).dot(cs.normal.get(i)).max(0.0);
-                cs.weight[i] * behind * h * h / mass[i].max(f32::MIN_POSITIVE)
-            })
-            .collect()
+            if closing || cs.weight[i] <= 0.0 || cs.collider[i] == u32::MAX || sewn[i] {
+                return 0.0;
+            }
+            let behind = (cs.target.get(i) - x.get(i)).dot(cs.normal.get(i)).max(0.0);
+            cs.weight[i] * behind * h * h / mass[i].max(f32::MIN_POSITIVE)
+        }));
+        self.collide.pushes = push;
     }
 
     /// A correction must not leave a particle behind a surface that its path from the

@@ -13,7 +13,8 @@
 //! holes) as constraints and the internal-line points as plain vertices; phase 2 then adds the
 //! internal-line segments as constraints. The points along a line are `h` apart and no lattice
 //! seed lies within `0.6 h` of it, so those segments are (almost always) Delaunay edges already
-//! and phase 2 flips little or nothing.
+//! and phase 2 flips little or nothing. Last, `refine` repairs the angles spade left, with every
+//! constraint in.
 //!
 //! The kept triangles are those whose centroid lies inside the resampled outline and outside
 //! every hole (even-odd test), and whose area is not a rounding-level sliver: resampled points
@@ -37,6 +38,8 @@ pub(crate) struct RawMesh {
 pub(crate) struct CdtInput<'a> {
     pub piece: &'a str,
     pub points: Vec<Point2>,
+    /// The first `n_constraint` points are the constraints' (the rest are lattice seeds).
+    pub n_constraint: usize,
     /// Segments of closed loops (outline, holes).
     pub loop_edges: Vec<[usize; 2]>,
     /// Segments of internal lines, added after refinement.
@@ -46,6 +49,8 @@ pub(crate) struct CdtInput<'a> {
     pub h: f64,
     pub min_angle_deg: f64,
     pub area_factor: f64,
+    /// Whether the final pass may split outline and hole segments.
+    pub refine_contour: bool,
 }
 
 pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
@@ -95,6 +100,20 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
         }
     }
 
+    // Now that every constraint is in: the angles spade left (see `refine`).
+    let complete = super::refine::refine(
+        &mut cdt,
+        &super::refine::RefineInput {
+            n_in,
+            n_constraint: input.n_constraint,
+            outline: input.outline,
+            holes: input.holes,
+            h: input.h,
+            min_angle_deg: input.min_angle_deg,
+            split_boundary: input.refine_contour,
+        },
+    );
+
     let points: Vec<Point2> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
     let sliver = 1e-9 * eq_area;
     let mut triangles = Vec::with_capacity(cdt.num_inner_faces());
@@ -111,5 +130,5 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
         }
         triangles.push(if cross > 0.0 { [a, b, c] } else { [a, c, b] });
     }
-    Ok(RawMesh { points, triangles, refinement_complete: result.refinement_complete })
+    Ok(RawMesh { points, triangles, refinement_complete: result.refinement_complete && complete })
 }

@@ -16,7 +16,10 @@
 //! 2. `constraints`: the CDT's vertices and segments; `fill`: the interior is seeded with an
 //!    equilateral lattice of side `h`.
 //! 3. `cdt`: a constrained Delaunay triangulation of all of it, refined (Ruppert/Chew, via
-//!    `spade`) to a minimum angle (default 28°) and a maximum area.
+//!    `spade`) to a minimum angle (default 28°) and a maximum area; then `refine`, a pass of
+//!    our own once the internal lines are in, repairs the angles spade leaves (tiny outline
+//!    features, circumcentres outside the piece, a sharp corner's wedge, triangles beside
+//!    lines), so only an input corner's own angle stays below the minimum.
 //! 4. `contour`: the outer contour is read back from the final triangles (refinement may have
 //!    split an outline segment) and every pin is mapped to its contour position.
 //!
@@ -37,6 +40,7 @@ mod options;
 mod piece_mesh;
 mod pins;
 mod quality;
+mod refine;
 pub(crate) mod resample;
 
 pub use corners::{input_corners, sharpest_input_corner_deg, unexcused_angles, InputCorner};
@@ -75,11 +79,13 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
 
     let segments: Vec<[Point2; 2]> = edges.iter().chain(&line_edges).map(|&[a, b]| [points[a], points[b]]).collect();
     let hole_polys: Vec<Vec<Point2>> = r_holes.iter().map(|r| r.points.clone()).collect();
+    let n_constraint = points.len();
     points.extend(fill::lattice_points(&r_out.points, &hole_polys, &segments, h, options.lattice_margin));
 
     let raw = cdt::triangulate(cdt::CdtInput {
         piece: &piece.name,
         points,
+        n_constraint,
         loop_edges: edges,
         line_edges,
         outline: &r_out.points,
@@ -87,6 +93,7 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
         h,
         min_angle_deg: options.min_angle_deg,
         area_factor: options.max_area_factor,
+        refine_contour: options.refine_contour,
     })?;
     let mut triangles = raw.triangles;
     if triangles.is_empty() {

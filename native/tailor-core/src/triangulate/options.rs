@@ -23,12 +23,25 @@ pub struct TriangulateOptions {
     pub max_area_factor: f64,
     /// Lattice seeds closer than this multiple of `h` to a constraint are dropped.
     pub lattice_margin: f64,
+    /// Whether the last refinement pass may split outline and hole segments (adding contour
+    /// vertices) to reach `min_angle_deg`. True for new meshes; false (the default when the
+    /// field is missing) for garment files written before it existed, whose stored one-to-one
+    /// seams count the contour vertices of the meshes they were saved with.
+    #[serde(default)]
+    pub refine_contour: bool,
 }
 
 impl TriangulateOptions {
     /// Defaults for a target edge length `h` (metres).
     pub fn new(edge_length: f64) -> Self {
-        Self { edge_length, min_angle_deg: 28.0, corner_turn_deg: 30.0, max_area_factor: 1.5, lattice_margin: 0.6 }
+        Self {
+            edge_length,
+            min_angle_deg: 28.0,
+            corner_turn_deg: 30.0,
+            max_area_factor: 1.5,
+            lattice_margin: 0.6,
+            refine_contour: true,
+        }
     }
 
     pub(crate) fn validate(&self) -> Result<()> {

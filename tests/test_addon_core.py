@@ -101,7 +101,7 @@ def test_edited_mesh_is_refused_with_what_to_do():
 def test_flip_and_remap_after_a_change_of_resolution():
     g = tailor.Garment.from_pattern(str(SHIRT), edge=0.04)
     pieces, seams, _ = scene_from_garment(g, 0.04)
-    meshes = [core.piece_mesh(p.piece_json, p.edge_length) for p in pieces]
+    meshes = [core.mesh_of(p) for p in pieces]
     long = [len(x.to_tailor().resolve(meshes)["a_vertices"]) >= 5 for x in seams]
     k = next(i for i, s in enumerate(seams) if s.mode == "equal" and s.a.piece != s.b.piece and long[i])
     s = seams[k]
@@ -112,7 +112,7 @@ def test_flip_and_remap_after_a_change_of_resolution():
     assert f.flipped() == s
     # Re-triangulate side A's piece much finer: the seam becomes unequal, as Garment.set_resolution does.
     changed = list(meshes)
-    changed[s.a.piece] = core.piece_mesh(pieces[s.a.piece].piece_json, 0.015)
+    changed[s.a.piece] = core.piece_mesh(pieces[s.a.piece].piece_json, 0.015, tailor.MESHER_VERSION)
     remapped = core.remap_seam_modes(seams, changed, {s.a.piece})
     g.set_resolution(s.a.piece, 0.015)
     assert [x.mode for x in remapped] == [x.mode for x in g.seams]

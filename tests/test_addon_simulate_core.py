@@ -23,7 +23,7 @@ def two_pieces():
     pieces = []
     for k, p in enumerate(pattern.pieces[:2]):
         js = p.to_json()
-        m = piece_mesh(js, 0.05)
+        m = piece_mesh(js, 0.05, tailor.MESHER_VERSION)
         pos = np.concatenate([m.rest, np.full((len(m.rest), 1), 0.3 * k, np.float32)], axis=1)
         pieces.append(PieceData(p.name, js, 0.05, pos.astype(np.float32), None))
     return garment_from_scene(pieces, [])

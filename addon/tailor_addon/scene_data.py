@@ -123,6 +123,7 @@ def read_piece(obj) -> PieceData:
         name=p.piece_name or obj.name,
         piece_json=p.piece_json,
         edge_length=p.edge_length,
+        mesher=p.mesher,
         positions=vertex_positions(obj),
         rest=rest_of(obj),
     )
@@ -231,4 +232,5 @@ def garment_file(scene, garment: str | None = None):
         [s.to_tailor() for s in seams],
         placements=[placement_of(o) for o in objects],
         bends=[bend_of(o) for o in objects],
+        meshers=[o.tailor_piece.mesher for o in objects],
     )

@@ -20,7 +20,7 @@ def two_panels_sewn(addon, back_edge=None):
             o.select_set(o == back)
         bpy.context.view_layer.objects.active = back
         assert bpy.ops.tailor.set_resolution(edge_length=back_edge) == {"FINISHED"}
-    mf, mb = (addon.core.piece_mesh(o.tailor_piece.piece_json, o.tailor_piece.edge_length) for o in (front, back))
+    mf, mb = (addon.core.mesh_of(o.tailor_piece) for o in (front, back))
     mode = "EQUAL" if back_edge is None else "UNEQUAL"
     assert bpy.ops.tailor.seam_add(
         name="side", mode=mode, piece_a=front.name, a_start=mf.corners[0], a_end=mf.corners[1], a_direction="CCW",

@@ -28,8 +28,8 @@ SCRIPT = textwrap.dedent("""
     assert bpy.ops.tailor.import_pattern(filepath={shirt!r}, edge_length=0.05) == {{"FINISHED"}}
     assert bpy.ops.tailor.import_pattern(filepath={skirt!r}, edge_length=0.05) == {{"FINISHED"}}
     front, back = bpy.data.objects["skirt front"], bpy.data.objects["skirt back"]
-    mf = core.piece_mesh(front.tailor_piece.piece_json, front.tailor_piece.edge_length)
-    mb = core.piece_mesh(back.tailor_piece.piece_json, back.tailor_piece.edge_length)
+    mf = core.mesh_of(front.tailor_piece)
+    mb = core.mesh_of(back.tailor_piece)
     assert bpy.ops.tailor.seam_add(piece_a=front.name, a_start=mf.corners[0], a_end=mf.corners[1],
         a_direction="CCW", piece_b=back.name, b_start=mb.corners[1], b_direction="CW") == {{"FINISHED"}}
     assert bpy.ops.tailor.seam_flip() == {{"FINISHED"}}

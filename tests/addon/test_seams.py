@@ -18,7 +18,7 @@ def two_panels(edge=0.05):
 
 
 def meshes(addon, *objs):
-    return [addon.core.piece_mesh(o.tailor_piece.piece_json, o.tailor_piece.edge_length) for o in objs]
+    return [addon.core.mesh_of(o.tailor_piece) for o in objs]
 
 
 def corner_run(mesh):

@@ -159,7 +159,7 @@ def addon_module():
 
 
 def mesh(obj):
-    return addon_module().core.piece_mesh(obj.tailor_piece.piece_json, obj.tailor_piece.edge_length)
+    return addon_module().core.mesh_of(obj.tailor_piece)
 
 
 def contour_world(obj, position, inward=0.0):

@@ -6,7 +6,7 @@ defined here (`PieceData`, `SeamData`), calls these functions, and writes the re
 """
 
 from .errors import AddonError, describe
-from .garment import PieceData, SeamData, SceneGarment, garment_from_scene, piece_mesh, remap_seam_modes
+from .garment import PieceData, SeamData, SceneGarment, garment_from_scene, mesh_of, piece_mesh, remap_seam_modes
 from .layout import placement_rotation, side_by_side
 from .mesh_arrays import MeshArrays, mesh_arrays
 from . import welded
@@ -18,6 +18,7 @@ __all__ = [
     "SeamData",
     "SceneGarment",
     "garment_from_scene",
+    "mesh_of",
     "piece_mesh",
     "remap_seam_modes",
     "placement_rotation",

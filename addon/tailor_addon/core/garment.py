@@ -29,6 +29,7 @@ class PieceData:
     edge_length: float
     positions: np.ndarray
     rest: np.ndarray | None = None
+    mesher: int = tailor.MESHER_VERSION  # the mesher that made its mesh (`tailor.triangulate`)
 
 
 @dataclass
@@ -81,16 +82,25 @@ class SeamData:
 
 
 @lru_cache(maxsize=64)
-def _triangulated(piece_json: str, edge: float) -> tailor.PieceMesh:
-    return tailor.triangulate(tailor.Piece.from_json(piece_json), float(edge))
+def _triangulated(piece_json: str, edge: float, mesher: int) -> tailor.PieceMesh:
+    return tailor.triangulate(tailor.Piece.from_json(piece_json), float(edge), mesher=int(mesher))
 
 
-def piece_mesh(piece_json: str, edge: float) -> tailor.PieceMesh:
-    """The piece's mesh at `edge` metres (memoised: the draw handler and operators ask often).
+def piece_mesh(piece_json: str, edge: float, mesher: int) -> tailor.PieceMesh:
+    """The piece's mesh at `edge` metres made by mesher `mesher` (memoised: the draw handler and
+    operators ask often).
 
     `edge` must be the stored value itself (a float32 property): the triangulation depends on
-    its last bits, so the same value must be used at import and at every rebuild."""
-    return _triangulated(piece_json, float(edge))
+    its last bits, so the same value must be used at import and at every rebuild; `mesher` is
+    the one the piece was made with (`tailor.MESHER_VERSION` for a piece imported today), so a
+    piece saved by an older version comes back vertex for vertex."""
+    return _triangulated(piece_json, float(edge), int(mesher))
+
+
+def mesh_of(p) -> tailor.PieceMesh:
+    """The mesh of a stored piece: anything with `piece_json`, `edge_length` and `mesher` (a
+    `PieceData`, or a piece object's `tailor_piece` settings)."""
+    return piece_mesh(p.piece_json, p.edge_length, p.mesher)
 
 
 def resolve(seam: SeamData, meshes: list[tailor.PieceMesh]) -> dict:
@@ -180,7 +190,7 @@ def garment_from_scene(pieces: list[PieceData], seams: list[SeamData]) -> SceneG
         raise AddonError("the scene has no garment pieces", "Import a pattern first (File > Import > Sewing Pattern)")
     meshes = []
     for p in pieces:
-        m = piece_mesh(p.piece_json, p.edge_length)
+        m = mesh_of(p)
         n = len(p.positions)
         if n != len(m.rest):
             raise AddonError(

@@ -107,6 +107,7 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
             p.source_index = i
             p.piece_json = piece.to_json()
             p.edge_length = self.edge_length
+            p.mesher = tailor.MESHER_VERSION
             p.contour_length = mesh.contour_length
             if i in locations:
                 obj.location = locations[i]

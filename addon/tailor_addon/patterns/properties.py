@@ -31,6 +31,13 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
         default=0.02,
         precision=4,
     )
+    # Which mesher made the mesh (`tailor.MESHER_VERSION` when imported or re-triangulated); the
+    # default 1 is what a piece saved before the field existed was made with, so it is rebuilt
+    # vertex for vertex as it was saved.
+    mesher: IntProperty(
+        name="Mesher", description="Version of the mesher that made this piece's mesh", min=1, default=1,
+        options={"HIDDEN"},
+    )
     contour_length: FloatProperty(name="Contour Length", subtype="DISTANCE", unit="LENGTH")
     # Fabric of this piece (the Simulate panel builds per-piece stiffness and mass from these).
     density: FloatProperty(

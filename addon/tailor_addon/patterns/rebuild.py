@@ -13,7 +13,7 @@ import numpy as np
 import tailor
 
 from .. import scene_data
-from ..core import mesh_arrays, piece_mesh
+from ..core import mesh_arrays, mesh_of, piece_mesh
 from ..core.garment import remap_seam_modes, resolve
 from ..seams.store import store_seam_counts
 
@@ -42,7 +42,9 @@ def set_resolution(scene, targets: list, edge: float) -> None:
     index = {o.name: i for i, o in enumerate(objects)}
     changed = {index[o.name] for o in targets}
     meshes = [
-        piece_mesh(o.tailor_piece.piece_json, edge if i in changed else o.tailor_piece.edge_length)
+        piece_mesh(o.tailor_piece.piece_json, edge, tailor.MESHER_VERSION)
+        if i in changed
+        else mesh_of(o.tailor_piece)
         for i, o in enumerate(objects)
     ]
     stored = [(item, scene_data.read_seam(item, index)) for item in scene.tailor.seams]
@@ -61,6 +63,7 @@ def set_resolution(scene, targets: list, edge: float) -> None:
         scene_data.write_mesh(obj.data, arr)
         transfer.restore(obj, values, arr.rest)
         obj.tailor_piece.edge_length = edge
+        obj.tailor_piece.mesher = tailor.MESHER_VERSION
         obj.tailor_piece.contour_length = meshes[i].contour_length
     for (item, _), seam, r in zip(stored, seams, resolved):
         item.mode = scene_data.MODE_ENUM[seam.mode]

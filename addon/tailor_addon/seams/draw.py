@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 
 from .. import scene_data
-from ..core import piece_mesh
+from ..core import mesh_of
 from ..core.garment import SeamData, SeamSide, resolve
 
 _handle = None
@@ -26,8 +26,10 @@ def _key(item) -> tuple:
     return (
         a.tailor_piece.piece_json,
         a.tailor_piece.edge_length,
+        a.tailor_piece.mesher,
         b.tailor_piece.piece_json,
         b.tailor_piece.edge_length,
+        b.tailor_piece.mesher,
         a == b,
         tuple(item.a_start),
         tuple(item.a_end),
@@ -44,9 +46,10 @@ def _resolved(item) -> dict | None:
     if key in _cache:
         return _cache[key]
     same = item.piece_a == item.piece_b
-    meshes = [piece_mesh(item.piece_a.tailor_piece.piece_json, item.piece_a.tailor_piece.edge_length)]
+    a, b = item.piece_a.tailor_piece, item.piece_b.tailor_piece
+    meshes = [mesh_of(a)]
     if not same:
-        meshes.append(piece_mesh(item.piece_b.tailor_piece.piece_json, item.piece_b.tailor_piece.edge_length))
+        meshes.append(mesh_of(b))
     seam = SeamData(
         item.name,
         SeamSide(0, tuple(item.a_start), tuple(item.a_end), scene_data.DIRECTIONS[item.a_direction]),

@@ -13,7 +13,8 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProp
 import tailor
 
 from .. import scene_data
-from ..core import AddonError, piece_mesh
+from ..core import AddonError
+from ..core import mesh_of
 from ..core.garment import SeamData, resolve
 from ..reporting import reports_errors
 from .properties import MODE_ITEMS
@@ -33,8 +34,8 @@ def piece_object(name: str, label: str):
     return obj
 
 
-def mesh_of(obj) -> tailor.PieceMesh:
-    return piece_mesh(obj.tailor_piece.piece_json, obj.tailor_piece.edge_length)
+def object_mesh(obj) -> tailor.PieceMesh:
+    return mesh_of(obj.tailor_piece)
 
 
 def contour_path(mesh: tailor.PieceMesh, start: int, end: int, how: str, label: str, count: int = 0):
@@ -105,7 +106,7 @@ class SeamAddProperties:
     def execute(self, context):
         scene = context.scene
         obj_a, obj_b = piece_object(self.piece_a, "side A"), piece_object(self.piece_b, "side B")
-        ma, mb = mesh_of(obj_a), mesh_of(obj_b)
+        ma, mb = object_mesh(obj_a), object_mesh(obj_b)
         path_a = contour_path(ma, self.a_start, self.a_end, self.a_direction, "side A")
         path_b = contour_path(mb, self.b_start, self.b_end, self.b_direction, "side B", count=len(path_a))
         objects = [obj_a] if obj_a == obj_b else [obj_a, obj_b]
@@ -124,7 +125,7 @@ def suggested_segment(obj, rest_point, corner_angle: float) -> tailor.ContourPat
     """The corner-delimited contour run of piece `obj` nearest `rest_point` (rest frame,
     metres), corners being contour angles under `corner_angle` radians: what the automatic
     suggestion lights up under the cursor."""
-    mesh = mesh_of(obj)
+    mesh = object_mesh(obj)
     corners = tailor.find_corners(mesh, math.degrees(corner_angle))
     if len(corners) < 2:
         raise AddonError(
@@ -173,7 +174,7 @@ class TAILOR_OT_seam_add_segments(bpy.types.Operator):
         path_b = suggested_segment(obj_b, self.b_point, angle)
         if self.reverse_b:
             path_b = reversed_path(path_b)
-        ma, mb = mesh_of(obj_a), mesh_of(obj_b)
+        ma, mb = object_mesh(obj_a), object_mesh(obj_b)
         same = obj_a == obj_b
         mode = "equal" if len(path_a) == len(path_b) else "unequal"
         name = unique_seam_name(scene, self.name or "Seam")
@@ -293,7 +294,7 @@ def checked_seam(item, flip: bool = False) -> tuple[list, dict]:
     seam = scene_data.read_seam(item, {o.name: i for i, o in enumerate(objects)})
     if flip:
         seam = seam.flipped()
-    return objects, resolve(seam, [mesh_of(o) for o in objects])
+    return objects, resolve(seam, [object_mesh(o) for o in objects])
 
 
 classes = (

@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 
 from .. import scene_data
-from ..core import piece_mesh
+from ..core import mesh_of
 from ..core.picking import hit_to_rest, nearest_on_screen, project_points
 
 PICK_RADIUS = 24.0  # pixels
@@ -24,7 +24,7 @@ COLOURS = {"picked": (1.0, 0.55, 0.0, 1.0), "preview": (0.2, 0.9, 1.0, 1.0), "ax
 def mesh_for(name: str):
     """The `tailor.PieceMesh` of piece object `name` (memoised triangulation)."""
     p = bpy.data.objects[name].tailor_piece
-    return piece_mesh(p.piece_json, p.edge_length)
+    return mesh_of(p)
 
 
 def locate(name: str, position: int) -> np.ndarray:

@@ -10,7 +10,7 @@ use tailor_core::bend::{bend_piece, BendParams, SymmetryLine};
 use tailor_core::garment::{self as core, BuildOptions};
 use tailor_core::garment_file::{self, GarmentPiece};
 use tailor_core::pattern::Placement;
-use tailor_core::triangulate::{PieceMesh as CoreMesh, TriangulateOptions};
+use tailor_core::triangulate::{PieceMesh as CoreMesh, TriangulateOptions, MESHER_VERSION};
 use tailor_core::TailorError;
 
 use crate::convert::{points2, points3};
@@ -61,10 +61,11 @@ impl Garment {
     /// `pieces` with their target edge lengths, `seams` over piece indices, and per piece an
     /// optional placement (`{"translation", "rotation_deg", "flipped"}`, as `Piece.placement`;
     /// it overrides the piece's own) and bend (`{"axis_point", "axis_direction", "angle_deg",
-    /// "symmetry", "threshold"}`, as `set_bend` takes them). Every seam is checked against the
-    /// meshes.
+    /// "symmetry", "threshold"}`, as `set_bend` takes them) and the mesher that made its mesh
+    /// (`meshers`, default `MESHER_VERSION` for every piece; see `triangulate`). Every seam is
+    /// checked against the meshes.
     #[staticmethod]
-    #[pyo3(signature = (pieces, edge_lengths, seams, placements=None, bends=None))]
+    #[pyo3(signature = (pieces, edge_lengths, seams, placements=None, bends=None, meshers=None))]
     fn from_parts(
         py: Python<'_>,
         pieces: Vec<Piece>,
@@ -72,6 +73,7 @@ impl Garment {
         seams: Vec<Seam>,
         placements: Option<Vec<Option<Bound<'_, PyDict>>>>,
         bends: Option<Vec<Option<Bound<'_, PyDict>>>>,
+        meshers: Option<Vec<u32>>,
     ) -> PyResult<Self> {
         let n = pieces.len();
         let count = |what: &'static str, len: usize| {
@@ -86,11 +88,14 @@ impl Garment {
         let bends = bends.unwrap_or_else(|| vec![None; n]);
         count("placements", placements.len())?;
         count("bends", bends.len())?;
+        let meshers = meshers.unwrap_or_else(|| vec![MESHER_VERSION; n]);
+        count("meshers", meshers.len())?;
         let mut inner = garment_file::Garment::default();
-        for (((piece, edge), placement), bend) in pieces.into_iter().zip(edge_lengths).zip(placements).zip(bends) {
+        let parts = pieces.into_iter().zip(edge_lengths).zip(placements).zip(bends).zip(meshers);
+        for ((((piece, edge), placement), bend), mesher) in parts {
             inner.pieces.push(GarmentPiece {
                 source: piece.inner,
-                options: TriangulateOptions::new(edge),
+                options: TriangulateOptions { mesher, ..TriangulateOptions::new(edge) },
                 placement: placement.map(|d| placement_from(&d)).transpose()?,
                 bend: bend.map(|d| bend_from(&d)).transpose()?,
             });

@@ -23,6 +23,7 @@ use pyo3::prelude::*;
 fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // One default for every path that sews (Simulation.add_seam, garments, the add-on).
+    m.add("MESHER_VERSION", tailor_core::triangulate::MESHER_VERSION)?;
     m.add("DEFAULT_SEAM_STIFFNESS", tailor_core::garment::DEFAULT_SEAM_STIFFNESS)?;
     errors::register(m)?;
     m.add_class::<settings::Fabric>()?;

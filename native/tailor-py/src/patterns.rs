@@ -262,11 +262,15 @@ pub fn list_sizes(path: PathBuf) -> PyResult<Vec<String>> {
     core::list_sizes(&path).map_err(to_py)
 }
 
-/// Triangulates `piece` at target edge length `edge` (metres).
+/// Triangulates `piece` at target edge length `edge` (metres) with mesher `mesher` (default
+/// `MESHER_VERSION`; a host that stored a mesh made by an older mesher passes its number to get
+/// the same mesh back).
 #[pyfunction]
-#[pyo3(signature = (piece, edge=0.01))]
-pub fn triangulate(py: Python<'_>, piece: Piece, edge: f64) -> PyResult<PieceMesh> {
-    let inner = py.detach(|| tri::triangulate_piece(&piece.inner, &TriangulateOptions::new(edge))).map_err(to_py)?;
+#[pyo3(signature = (piece, edge=0.01, mesher=None))]
+pub fn triangulate(py: Python<'_>, piece: Piece, edge: f64, mesher: Option<u32>) -> PyResult<PieceMesh> {
+    let mut options = TriangulateOptions::new(edge);
+    options.mesher = mesher.unwrap_or(tri::MESHER_VERSION);
+    let inner = py.detach(|| tri::triangulate_piece(&piece.inner, &options)).map_err(to_py)?;
     Ok(PieceMesh { inner })
 }
 

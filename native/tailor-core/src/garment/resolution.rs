@@ -22,6 +22,8 @@ pub fn set_resolution(garment: &mut Garment, piece: usize, edge_length: f64) -> 
     let mut next = garment.clone();
     let mut options = p.options.clone();
     options.edge_length = edge_length;
+    // A piece meshed again gets today's mesher (its old vertices are gone either way).
+    options.mesher = crate::triangulate::MESHER_VERSION;
     next.pieces[piece].options = options;
     let meshes = triangulate_all(&next)?;
     for seam in &mut next.seams {

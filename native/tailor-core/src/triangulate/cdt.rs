@@ -49,8 +49,8 @@ pub(crate) struct CdtInput<'a> {
     pub h: f64,
     pub min_angle_deg: f64,
     pub area_factor: f64,
-    /// Whether the final pass may split outline and hole segments.
-    pub refine_contour: bool,
+    /// Which mesher (`TriangulateOptions::mesher`): 1 stops after spade's refinement.
+    pub mesher: u32,
 }
 
 pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
@@ -100,8 +100,10 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
         }
     }
 
-    // Now that every constraint is in: the angles spade left (see `refine`).
-    let complete = super::refine::refine(
+    // Now that every constraint is in: the angles spade left (see `refine`); mesher 1 (files
+    // saved before the pass existed) stops here, so their meshes come back as they were saved.
+    let complete = input.mesher < 2
+        || super::refine::refine(
         &mut cdt,
         &super::refine::RefineInput {
             n_in,
@@ -110,7 +112,6 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
             holes: input.holes,
             h: input.h,
             min_angle_deg: input.min_angle_deg,
-            split_boundary: input.refine_contour,
         },
     );
 

@@ -45,7 +45,7 @@ pub(crate) mod resample;
 
 pub use corners::{input_corners, sharpest_input_corner_deg, unexcused_angles, InputCorner};
 pub use lines::snap_tolerance;
-pub use options::TriangulateOptions;
+pub use options::{TriangulateOptions, MESHER_VERSION};
 pub use piece_mesh::PieceMesh;
 pub use quality::MeshQuality;
 
@@ -93,7 +93,7 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
         h,
         min_angle_deg: options.min_angle_deg,
         area_factor: options.max_area_factor,
-        refine_contour: options.refine_contour,
+        mesher: options.mesher,
     })?;
     let mut triangles = raw.triangles;
     if triangles.is_empty() {

@@ -23,12 +23,23 @@ pub struct TriangulateOptions {
     pub max_area_factor: f64,
     /// Lattice seeds closer than this multiple of `h` to a constraint are dropped.
     pub lattice_margin: f64,
-    /// Whether the last refinement pass may split outline and hole segments (adding contour
-    /// vertices) to reach `min_angle_deg`. True for new meshes; false (the default when the
-    /// field is missing) for garment files written before it existed, whose stored one-to-one
-    /// seams count the contour vertices of the meshes they were saved with.
-    #[serde(default)]
-    pub refine_contour: bool,
+    /// Which mesher made the piece's mesh (see [`MESHER_VERSION`]). A mesh must be remade
+    /// exactly as it was saved: a garment file's per-particle parameters and one-to-one seams,
+    /// and a .blend's piece meshes, count its vertices. A file written before the field
+    /// existed reads 1.
+    #[serde(default = "first_mesher")]
+    pub mesher: u32,
+}
+
+/// The mesher new meshes are made with.
+/// - 1: spade's Ruppert/Chew refinement only (min angles down to about 10° beside internal
+///   lines and tiny outline features);
+/// - 2: then our own pass (`refine`) once every constraint is in, outline and hole segments
+///   split where needed, so only an input corner's own angle stays below the minimum.
+pub const MESHER_VERSION: u32 = 2;
+
+fn first_mesher() -> u32 {
+    1
 }
 
 impl TriangulateOptions {
@@ -40,7 +51,7 @@ impl TriangulateOptions {
             corner_turn_deg: 30.0,
             max_area_factor: 1.5,
             lattice_margin: 0.6,
-            refine_contour: true,
+            mesher: MESHER_VERSION,
         }
     }
 
@@ -55,6 +66,13 @@ impl TriangulateOptions {
                 "must be in [0, 33] (Delaunay refinement does not terminate above)",
             ));
         }
+        if !(1..=MESHER_VERSION).contains(&self.mesher) {
+            return Err(TailorError::setting(
+                "mesher",
+                self.mesher,
+                format!("must be a mesher this build knows (1 to {MESHER_VERSION})"),
+            ));
+        }
         if !(self.corner_turn_deg > 0.0 && self.corner_turn_deg <= 180.0) {
             return Err(TailorError::setting("corner_turn_deg", self.corner_turn_deg, "must be in (0, 180]"));
         }
@@ -65,5 +83,22 @@ impl TriangulateOptions {
             return Err(TailorError::setting("lattice_margin", self.lattice_margin, "must be in [0.2, 1]"));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn options_saved_before_the_mesher_field_read_the_first_mesher() {
+        let o: TriangulateOptions = serde_json::from_str(
+            r#"{"edge_length":0.02,"min_angle_deg":28.0,"corner_turn_deg":30.0,"max_area_factor":1.5,"lattice_margin":0.6}"#,
+        )
+        .unwrap();
+        assert_eq!(o.mesher, 1);
+        assert_eq!(TriangulateOptions::new(0.02).mesher, MESHER_VERSION);
+        let future = TriangulateOptions { mesher: MESHER_VERSION + 1, ..TriangulateOptions::new(0.02) };
+        assert!(future.validate().unwrap_err().to_string().contains("mesher"));
     }
 }

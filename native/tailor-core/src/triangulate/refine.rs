@@ -55,21 +55,6 @@ pub(crate) struct RefineInput<'a> {
     pub holes: &'a [Vec<Point2>],
     pub h: f64,
     pub min_angle_deg: f64,
-    /// Whether outline and hole segments may be split (adding contour vertices).
-    pub split_boundary: bool,
-}
-
-/// Whether constraint edge `e` bounds the piece (outline or hole): a face beside it is outside.
-fn on_boundary(cdt: &Cdt, e: FixedUndirectedEdgeHandle, input: &RefineInput<'_>) -> bool {
-    let d = cdt.directed_edge(e.as_directed());
-    [d, d.rev()].iter().any(|x| match x.face().as_inner() {
-        None => true,
-        Some(f) => {
-            let p = f.positions();
-            let c = [(p[0].x + p[1].x + p[2].x) / 3.0, (p[0].y + p[1].y + p[2].y) / 3.0];
-            !inside(input.outline, c) || input.holes.iter().any(|hl| inside(hl, c))
-        }
-    })
 }
 
 fn orient(a: SPoint<f64>, b: SPoint<f64>, c: SPoint<f64>) -> f64 {
@@ -277,9 +262,6 @@ pub(crate) fn refine(cdt: &mut Cdt, input: &RefineInput<'_>) -> bool {
                         }
                         continue;
                     }
-                }
-                if !input.split_boundary && on_boundary(cdt, e, input) {
-                    continue;
                 }
                 let [a, b] = cdt.undirected_edge(e).vertices().map(|v| v.fix());
                 let (pa, pb) = (cdt.vertex(a).position(), cdt.vertex(b).position());

@@ -53,6 +53,8 @@ class Settings:
     ramp_release_time: float
     ramp_closing_speed: float
     ramp_closing_gravity: float
+    ramp_closing_hold: float
+    ramp_closing_hold_distance: float
     chebyshev_rho: float | None
     colouring_seed: int
     def __init__(self, **kwargs: Any) -> None: ...
@@ -167,6 +169,8 @@ class Simulation:
     # Particles attached to a mesh collider (uint32) and their current targets (k, 3).
     collider_attached: npt.NDArray[np.uint32]
     collider_attachment_targets: F32
+    # Particles the body holds while the seams close (Settings.ramp_closing_hold; uint32).
+    closing_holds: npt.NDArray[np.uint32]
     def set_particle_levels(self, levels: ArrayLike) -> None: ...
     def set_particle_friction(
         self, static_friction: ArrayLike | None = None, kinetic_friction: ArrayLike | None = None

@@ -70,6 +70,10 @@ pub struct Settings {
     pub ramp_closing_speed: f32,
     /// Factor on gravity while seams close (0 = the pieces stay where placed until sewn).
     pub ramp_closing_gravity: f32,
+    /// Stiffness (N/m) with which the body holds the cloth near it while seams close (0 = none).
+    pub ramp_closing_hold: f32,
+    /// Cloth within this distance (m) of a mesh collider is held while seams close.
+    pub ramp_closing_hold_distance: f32,
     /// Fixed Chebyshev spectral radius; None = measured automatically.
     pub chebyshev_rho: Option<f32>,
     pub colouring_seed: u64,
@@ -132,6 +136,8 @@ impl From<&core::SolverSettings> for Settings {
             ramp_release_time: s.ramp.release_time,
             ramp_closing_speed: s.ramp.closing_speed,
             ramp_closing_gravity: s.ramp.closing_gravity,
+            ramp_closing_hold: s.ramp.closing_hold,
+            ramp_closing_hold_distance: s.ramp.closing_hold_distance,
             chebyshev_rho: s.chebyshev.rho,
             colouring_seed: s.colouring_seed,
         }
@@ -157,6 +163,8 @@ impl Settings {
                 release_time: self.ramp_release_time,
                 closing_speed: self.ramp_closing_speed,
                 closing_gravity: self.ramp_closing_gravity,
+                closing_hold: self.ramp_closing_hold,
+                closing_hold_distance: self.ramp_closing_hold_distance,
             },
             chebyshev: core::ChebyshevSettings { rho: self.chebyshev_rho, ..d.chebyshev },
             colouring_seed: self.colouring_seed,

@@ -529,18 +529,26 @@ impl Simulation {
         self.inner.edit(|sim| sim.detach_from_collider(p.as_deref())).map_err(to_py)
     }
 
-    /// The particles attached to a mesh collider, a new uint32 array (in attachment order).
+    /// The particles attached to a mesh collider by `attach_to_collider`, a new uint32 array
+    /// (in attachment order; the holds while seams close are `closing_holds`).
     #[getter]
     fn collider_attached<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        let p: Vec<u32> = self.inner.simulation().collider_attachments().iter().map(|a| a.particle).collect();
+        let p: Vec<u32> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.particle).collect();
         PyArray1::from_vec(py, p).into_any()
+    }
+
+    /// The particles the body holds while the seams close (`Settings.ramp_closing_hold`), a
+    /// new uint32 array; empty once the ramp has released.
+    #[getter]
+    fn closing_holds<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        PyArray1::from_vec(py, self.inner.simulation().closing_holds().to_vec()).into_any()
     }
 
     /// The targets of the collider attachments at the last substep run, a new (k, 3) float32
     /// array in the order of `collider_attached`.
     #[getter]
     fn collider_attachment_targets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let t: Vec<[f32; 3]> = self.inner.simulation().collider_attachments().iter().map(|a| a.target).collect();
+        let t: Vec<[f32; 3]> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.target).collect();
         colliders::rows_to_numpy(py, &t)
     }
 

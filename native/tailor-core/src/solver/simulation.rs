@@ -284,6 +284,8 @@ impl Simulation {
         }
         self.collide.invalidate_topology();
         self.ramp = Ramp::default();
+        // A new closing phase: the body holds the cloth again, where it is then.
+        self.collide.holds_placed = false;
         Ok(hinges)
     }
 
@@ -388,6 +390,7 @@ impl Simulation {
             stats.asleep = true;
             return Ok(stats);
         }
+        self.update_closing_holds()?;
         let backup = self.save_state();
         for k in 0..substeps {
             self.collide.set_substep(k, substeps);
@@ -406,6 +409,7 @@ impl Simulation {
                     .into(),
             });
         }
+        self.update_closing_holds()?;
         let quiet = !self.seams_closing && !self.collide.any_collider_moving();
         if self.sleep.after_step(self.v.max_length(), quiet) {
             self.v = Vec3Soa::zeros(self.num_particles());

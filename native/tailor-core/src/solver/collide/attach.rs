@@ -141,6 +141,9 @@ impl Simulation {
         }
         let mut replaced = vec![false; n];
         particles.iter().for_each(|&p| replaced[p as usize] = true);
+        // An attachment asked for takes a particle over from the closing holds (which are
+        // removed on release): it stays.
+        self.collide.holds.retain(|&p| !replaced[p as usize]);
         let list = &mut self.model.collider_attachments;
         list.retain(|a| !replaced[a.particle as usize]);
         // A particle given twice is bound once.
@@ -161,7 +164,10 @@ impl Simulation {
         let n = self.num_particles();
         let before = self.model.collider_attachments.len();
         match particles {
-            None => self.model.collider_attachments.clear(),
+            None => {
+                self.model.collider_attachments.clear();
+                self.collide.holds.clear();
+            }
             Some(ps) => {
                 if let Some(&bad) = ps.iter().find(|&&p| p as usize >= n) {
                     return Err(TailorError::index("detach_from_collider: particle", bad as i64, n, "particles"));
@@ -169,6 +175,7 @@ impl Simulation {
                 let mut drop = vec![false; n];
                 ps.iter().for_each(|&p| drop[p as usize] = true);
                 self.model.collider_attachments.retain(|a| !drop[a.particle as usize]);
+                self.collide.holds.retain(|&p| !drop[p as usize]);
             }
         }
         if self.model.collider_attachments.len() != before {
@@ -177,9 +184,17 @@ impl Simulation {
         Ok(())
     }
 
-    /// The collider attachments: particle, collider, bound triangle and current target each.
+    /// The collider attachments: particle, collider, bound triangle and current target each,
+    /// the body's holds while seams close (`closing_holds`) included.
     pub fn collider_attachments(&self) -> &[ColliderAttachment] {
         &self.model.collider_attachments
+    }
+
+    /// The collider attachments asked for (`attach_to_collider`), the holds left out.
+    pub fn asked_attachments(&self) -> Vec<&ColliderAttachment> {
+        let mut held = vec![false; self.num_particles()];
+        self.collide.holds.iter().for_each(|&p| held[p as usize] = true);
+        self.model.collider_attachments.iter().filter(|a| !held[a.particle as usize]).collect()
     }
 
     /// Prediction stage: every collider attachment's target at this substep's collider

@@ -23,6 +23,7 @@
 //! [`CollisionSkips`], so benchmarks and tests can measure and compare them.
 
 mod attach;
+mod closing_hold;
 pub mod levels;
 pub(crate) mod mesh_collider;
 pub(crate) mod self_collide;
@@ -145,6 +146,10 @@ pub(crate) struct Collisions {
     /// Another backend began this frame (`begin_frame`) and then handed it to the CPU: the
     /// CPU step must not begin it again.
     pub(crate) frame_begun: bool,
+    /// Particles the body holds while seams close (`closing_hold.rs`), and whether this
+    /// closing phase has placed them.
+    pub(crate) holds: Vec<u32>,
+    pub(crate) holds_placed: bool,
 }
 
 impl Collisions {

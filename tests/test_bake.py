@@ -111,7 +111,9 @@ def test_collider_pins_wait_for_the_seams_then_ride_on_the_collider(tube):
     cid = sim.add_mesh_collider(v, t)
     top = np.flatnonzero(tube["positions"][:, 2] > 0.299)
     pins = bake.ColliderPins(cid, [(top, 100.0)])
-    run = bake.Bake(sim, [bake.Collider("box", cid, len(v))], fps=30.0, start=1, preroll=1, pins=pins)
+    # One preroll frame only (`preroll_max`), so that the seams close in recorded frames.
+    run = bake.Bake(sim, [bake.Collider("box", cid, len(v))], fps=30.0, start=1, preroll=1, pins=pins,
+                    preroll_max=1)
     gap0 = sim.seam_gaps()[0]
     attached_at = None
     for frame in range(1, 16):
@@ -193,3 +195,45 @@ def test_judge_states_its_thresholds_and_refuses_a_dict_it_cannot_read(square):
         tailor.judge({k: v for k, v in m.items() if k != "on_body_fraction"})
     with pytest.raises(tailor.InvalidParameterError, match="'centroid'"):
         tailor.judge(dict(m, centroid="up"))
+
+
+def test_the_preroll_goes_on_while_the_seams_close(tube):
+    """The assembly does not end on a clock: past `preroll` frames it goes on while the seams
+    are still closing (the tube's 8 cm gap takes about 5 frames at 0.5 m/s), so the recorded
+    frames start sewn; `preroll_max` bounds it."""
+    def run(**kw):
+        sim = tailor.Simulation(tube["positions"], tube["triangles"], tube["rest"], tailor.Fabric(),
+                                tailor.Settings(substeps=4, iterations=10, gravity=(0.0, 0.0, 0.0)))
+        for name, a, b in tube["seams"]:
+            sim.add_seam(a, b, name=name)
+        v, t = box(0.06, 0.15)
+        cid = sim.add_mesh_collider(v, t)
+        b = bake.Bake(sim, [bake.Collider("box", cid, len(v))], fps=30.0, start=1, preroll=1, **kw)
+        rec = b.step([v])
+        return b, rec
+
+    b, rec = run()
+    assert 3 <= b.preroll_frames < b.preroll_limit() and b.preroll_limit() == round(bake.ASSEMBLY_MAX_S * 30)
+    assert not b.sim.metrics()["seams_closing"] and rec["seam_gap_max_m"] < 2e-3, (b.preroll_frames, rec)
+    capped, rec = run(preroll_max=2)
+    assert capped.preroll_frames == 2 and rec["seam_gap_max_m"] > 0.01, rec
+
+
+def test_frames_are_judged_from_the_garment_as_sewn(square):
+    """`judged_from`: the first frame until one is assembled, then the first assembled frame
+    for good. Pieces that travel 30 cm while their seams close do not count as a fall; a fall
+    after that does, measured from where the garment was sewn."""
+    run = new_bake(square)
+    run.run(lambda f: [box(0.3, -0.15)[0]], 1)
+    m = run.sim.metrics(run.metrics_collider)
+    placed = dict(m, seams_closing=True)
+    moved = dict(m, centroid=[c + d for c, d in zip(m["centroid"], (0.0, 0.3, 0.0))])
+    travelling = dict(moved, seams_closing=True)
+    ref = bake.judged_from(None, placed)
+    assert bake.judged_from(ref, travelling) is ref  # still closing: still the placement
+    sewn = bake.judged_from(ref, moved)
+    assert sewn is moved and tailor.judge(moved, sewn)["failed"] == []
+    assert [f["check"] for f in tailor.judge(moved, placed)["failed"]] == ["fell"]  # what it used to say
+    fallen = dict(moved, centroid=[c - d for c, d in zip(moved["centroid"], (0.0, 0.0, 0.25))])
+    assert bake.judged_from(sewn, fallen) is sewn  # for good
+    assert [f["check"] for f in tailor.judge(fallen, sewn)["failed"]] == ["fell"]

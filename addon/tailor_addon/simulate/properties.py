@@ -136,7 +136,7 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     frame_end: IntProperty(name="End", default=48)
     preroll: IntProperty(
         name="Preroll", description="Frames solved at the start frame before it is recorded (the garment "
-        "assembles first)", min=0, default=60,
+        "assembles first; more while its seams are still closing, up to 10 s)", min=0, default=60,
     )
     assemble_at_rest: BoolProperty(
         name="Assemble at Rest Pose", description="Assemble during the preroll with every armature in its rest "

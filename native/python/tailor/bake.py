@@ -34,7 +34,25 @@ from tailor._tailor import (VERDICT_THRESHOLDS, CancelledError, InvalidParameter
                             judge, judge_unfinished, write_pc2)
 
 #: Quality fields of a frame record, each worst-case (largest) over frames in a summary.
+#: The longest an assembly at the rest pose may go on while its seams are still closing, seconds
+#: (a safety net: the ramp ends its closing phase by itself when the seams meet or stall).
+ASSEMBLY_MAX_S = 10.0
+
 FIELDS = ("seam_gap_max_m", "penetration_count", "penetration_max_m", "self_intersections", "strain_max")
+
+
+def judged_from(reference: dict | None, metrics: dict) -> dict:
+    """The frame a run's frames are judged against (`tailor.judge`'s `start`), given the one so
+    far (`reference`, None before the first frame) and this frame's `Simulation.metrics`: the
+    run's first frame until a frame is assembled, then the first assembled frame (its seams no
+    longer closing) for good. While seams close the pieces travel to meet by design (a skirt
+    placed 50 cm below the shirt it is sewn to comes up 17 cm with the body holding the shirt):
+    that is assembly, not a fall. From the garment as sewn, a fall or a slide off a shoulder
+    is measured however late it comes; one that leaves the body while it assembles is caught
+    by the on-body share."""
+    if reference is None or (reference["seams_closing"] and not metrics["seams_closing"]):
+        return metrics
+    return reference
 
 
 def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: int | None = None,
@@ -43,7 +61,7 @@ def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: in
     `start` (the `Simulation.metrics` of the run's first frame; this frame itself when None) by
     `tailor.judge`: `on_body_fraction` (share of the particles within 10 cm of `collider`, None
     without one), `centroid_shift_m` (how far the garment's centroid moved on the body since
-    `start`), `seams_closing` (still assembling) and `failed` (the checks it fails, each
+    `start`, which callers keep with `judged_from`), `seams_closing` (still assembling) and `failed` (the checks it fails, each
     {"check", "reason"}). `metrics` is `sim.metrics(collider)` when the caller already has it."""
     m = sim.metrics(collider) if metrics is None else metrics
     nan = bool(nan or not np.isfinite(sim.positions).all())
@@ -226,7 +244,8 @@ class Bake:
     Frame `start` is the garment as given (no step); each following frame is one step of
     `1/fps` seconds with the colliders at that frame. Before frame `start` is recorded, the
     garment assembles: `preroll` steps with the colliders at `assembly` (a pose the pattern is
-    placed for, typically the rest pose; the start frame's positions when None), then
+    placed for, typically the rest pose; the start frame's positions when None), more while the
+    seams are still closing (up to `preroll_limit()`), then
     `transition` steps moving them from `assembly` to the start frame's positions along a
     smoothstep (3t² - 2t³: the body starts and ends the move at rest, no jolt at either end for
     the cloth's contacts, as `tailor.commands.on_character` blends).
@@ -249,8 +268,13 @@ class Bake:
     warnings: list[str] = field(default_factory=list)
     prerolled: bool = False
     pins: ColliderPins | None = None
-    #: `Simulation.metrics` of frame `start`: what every record is judged against.
+    #: What every record is judged against (`judged_from`): the `Simulation.metrics` of frame
+    #: `start`, or of the first assembled frame after it.
     start_metrics: dict | None = None
+    #: The preroll goes on past `preroll` frames while the seams are still closing, up to this
+    #: many frames in all (None: `ASSEMBLY_MAX_S` seconds); `preroll_frames` is how many ran.
+    preroll_max: int | None = None
+    preroll_frames: int = 0
 
     @property
     def next_frame(self) -> int:
@@ -284,40 +308,54 @@ class Bake:
         ms = (time.perf_counter() - t0) * 1e3
         pos = self.sim.positions
         m = self.sim.metrics(self.metrics_collider)
-        if not self.frames:
-            self.start_metrics = m
+        self.start_metrics = judged_from(self.start_metrics, m)
         rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider, self.start_metrics, m)
         self.frames.append(pos)
         self.records.append(rec)
         return rec
 
-    def _solve(self, dt: float, frames: int = 1) -> None:
+    def _solve(self, dt: float, frames: int = 1) -> str:
         """`frames` solver frames; pins waiting for the seams are attached after the first
-        frame whose ramp is no longer closing (so frame by frame until then)."""
+        frame whose ramp is no longer closing (so frame by frame until then). Returns the
+        ramp's phase after the last frame ("closing", "releasing" or "done")."""
         if self.pins is None or self.pins.attached:
-            self.sim.step(dt, frames)
-            return
+            return self.sim.step(dt, frames)["ramp_phase"]
+        phase = "done"
         for k in range(frames):
-            if self.pins.after_frame(self.sim, self.sim.step(dt)["ramp_phase"]):
+            phase = self.sim.step(dt)["ramp_phase"]
+            if self.pins.after_frame(self.sim, phase):
                 if frames - k - 1 > 0:
-                    self.sim.step(dt, frames - k - 1)
-                return
+                    phase = self.sim.step(dt, frames - k - 1)["ramp_phase"]
+                break
+        return phase
+
+    def preroll_limit(self) -> int:
+        """The most preroll frames `_assemble` runs while the seams are still closing."""
+        if self.preroll_max is not None:
+            return max(self.preroll, self.preroll_max)
+        return max(self.preroll, round(ASSEMBLY_MAX_S * self.fps))
 
     def _assemble(self, start_positions: Sequence[np.ndarray]) -> None:
         dt = 1.0 / self.fps
         pose = self.assembly if self.assembly is not None else start_positions
         if self.preroll > 0:
             self._set_colliders(pose)
-            if self.assembly_gravity is None:
-                self._solve(dt, self.preroll)
-            else:
-                settings = self.sim.settings
-                gravity = settings.gravity
+            settings = self.sim.settings
+            gravity = settings.gravity
+            if self.assembly_gravity is not None:
                 settings.gravity = tuple(self.assembly_gravity)
                 self.sim.settings = settings
-                try:
-                    self._solve(dt, self.preroll)
-                finally:
+            try:
+                # At least `preroll` frames, and on while the seams close: the ramp ends its
+                # closing phase when they have met (or stalled), by measured gaps, however far
+                # apart the pieces were placed; leaving the pose earlier drags open seams
+                # through the motion.
+                phase, n, cap = self._solve(dt, self.preroll), self.preroll, self.preroll_limit()
+                while phase == "closing" and n < cap:
+                    phase, n = self._solve(dt), n + 1
+                self.preroll_frames = n
+            finally:
+                if self.assembly_gravity is not None:
                     settings.gravity = gravity
                     self.sim.settings = settings
         if self.assembly is not None and self.transition > 0:

@@ -66,15 +66,16 @@ def run(args):
           f"{info['particles']} particles, {info['triangles']} triangles) on {Path(args.character).name} "
           f"({len(character.rest)} vertices, '{args.action}'), {args.substeps} substeps x {args.iterations} "
           f"iterations, {os.cpu_count()} CPUs; loaded in {load_s:.1f} s")
-    print(f"frames: {schedule.assemble} assemble at rest + {schedule.blend} blend into the {args.action} + "
+    print(f"frames: {schedule.assemble} assemble at rest (more while the seams close) + {schedule.blend} blend into the {args.action} + "
           f"{args.frames} {args.action} = {total} at {schedule.fps:g} fps")
     print(f"{'frame':>5} {'phase':>8} {'ms':>7} {'seam gap mm':>11} {'pen.':>5} {'deepest mm':>10} "
           f"{'strain max':>10} {'ramp':>9}")
     records, cloth_frames, body_frames = [], [], []
     closed_at = None
-    start = sim.metrics(d.collider)  # the garment as placed: what every frame is judged against
+    start = sim.metrics(d.collider)  # the garment as placed, then as sewn: what frames are judged against
     t_sim = time.perf_counter()
-    for f in range(total):
+    f = 0
+    while f < schedule.assemble + schedule.blend + args.frames:
         phase = schedule.phase(f)
         body = character.at(f, schedule)
         d.move_body(body)
@@ -85,9 +86,15 @@ def run(args):
                "seam_gap_step_m": float(st["seam_gap_max"])}
         if closed_at is None and st["seam_gap_max"] < MET:
             closed_at = f + 1
+        schedule.hold(f, st["ramp_phase"])
+        total = schedule.assemble + schedule.blend + args.frames
         last_of_phase = f + 1 == total or schedule.phase(f + 1) != phase
-        if phase != "assemble" or (f + 1) % 5 == 0 or last_of_phase:
-            rec.update(on_character.quality(d, start))
+        # Every frame until one is assembled: the first assembled frame is what the rest are
+        # judged against (`bake.judged_from`).
+        if phase != "assemble" or (f + 1) % 5 == 0 or last_of_phase or start["seams_closing"]:
+            m = sim.metrics(d.collider)
+            start = bake.judged_from(start, m)
+            rec.update(on_character.quality(d, start, m))
         if (f + 1) % 10 == 0 or f == 0 or last_of_phase:
             q = rec if "seam_gap_m" in rec else None
             print(f"{f + 1:5d} {phase:>8} {ms:7.1f} "
@@ -97,6 +104,7 @@ def run(args):
         records.append(rec)
         cloth_frames.append(sim.positions.copy())
         body_frames.append(body)
+        f += 1
     sim_s = time.perf_counter() - t_sim
     tailor.write_pc2(out / "garment.pc2", np.stack(cloth_frames), start_frame=1.0, sample_rate=1.0)
 

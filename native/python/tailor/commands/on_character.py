@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 import tailor
-from tailor.bake import ColliderPins
+from tailor.bake import ASSEMBLY_MAX_S, ColliderPins
 from tailor.commands import garment_extras
 
 GRAVITY_Y = (0.0, -9.81, 0.0)
@@ -33,9 +33,19 @@ GRAVITY_Y = (0.0, -9.81, 0.0)
 
 @dataclass
 class Schedule:
-    assemble: int  # frames at the rest pose
+    assemble: int  # frames at the rest pose (at least: `hold` adds more while the seams close)
     blend: int  # frames from the rest pose into the action's first frame
     fps: float = 30.0
+    assemble_max: int | None = None  # the most frames at rest (None: `bake.ASSEMBLY_MAX_S`)
+
+    def hold(self, frame: int, ramp_phase: str) -> None:
+        """After solving `frame`: when it was the last frame at rest and the seams are still
+        closing (`ramp_phase`, as `Simulation.step` reports it), the rest pose is held one
+        frame more, up to `assemble_max`; as `bake.Bake`'s preroll, so the garment leaves the
+        rest pose assembled however far apart its pieces were placed."""
+        cap = self.assemble_max if self.assemble_max is not None else round(ASSEMBLY_MAX_S * self.fps)
+        if frame == self.assemble - 1 and ramp_phase == "closing" and self.assemble < cap:
+            self.assemble += 1
 
     def phase(self, frame: int) -> str:
         if frame < self.assemble:
@@ -217,12 +227,13 @@ def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, sub
     return Dressed(sim, cid, list(offsets), tris, info, body=np.asarray(body, np.float32), pins=pins)
 
 
-def quality(d: Dressed, start: dict | None = None) -> dict:
+def quality(d: Dressed, start: dict | None = None, metrics: dict | None = None) -> dict:
     """The quality figures of the current state (seam gap, penetration, strain), SI units, and
-    the garment on the body judged against `start` (the `Simulation.metrics` of the first frame)
-    as `tailor.bake.frame_record` judges it: `on_body_fraction`, `centroid_shift_m`,
-    `seams_closing`, `failed`."""
-    m = d.sim.metrics(d.collider)
+    the garment on the body judged against `start` (as `tailor.bake.judged_from` keeps it: the
+    `Simulation.metrics` of the first frame, then of the first assembled one) as
+    `tailor.bake.frame_record` judges it: `on_body_fraction`, `centroid_shift_m`,
+    `seams_closing`, `failed`. `metrics` is `d.sim.metrics(d.collider)` when the caller has it."""
+    m = d.sim.metrics(d.collider) if metrics is None else metrics
     nan = not bool(np.isfinite(d.sim.positions).all())
     verdict = tailor.judge(m, start, nan)
     return {

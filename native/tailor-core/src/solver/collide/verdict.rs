@@ -12,15 +12,18 @@
 //! they were placed, may be drawn through it on their way, and move as they meet (the sample
 //! skirt's centroid moves 18 cm while it closes, 7 cm once closed); gravity is off meanwhile,
 //! so nothing falls. Every other check starts with the first assembled frame, and the centroid's
-//! shift is still measured from the run's start, so a garment that fell is caught however late.
+//! shift is measured from the frame the caller passes as `start`: the bake loops pass the first
+//! assembled frame (`tailor.bake.judged_from`), the garment as sewn, so a garment that fell or
+//! slid off a shoulder is caught however late, and pieces that travelled to meet (a skirt
+//! placed below the shirt it is sewn to comes up 17 cm) are not taken for a fall.
 
 use glam::Vec3;
 
 use super::QualityMetrics;
 use crate::collision::metrics::ON_BODY_DISTANCE;
 
-/// "fell": the cloth's centroid moved more than this from where it started (relative to the
-/// body), metres.
+/// "fell": the cloth's centroid moved more than this from the frame it is judged against (the
+/// garment as sewn; relative to the body), metres.
 pub const FELL_SHIFT: f32 = 0.20;
 /// "fell": fewer than this share of the particles lie within [`ON_BODY_DISTANCE`] of the body.
 ///

@@ -14,8 +14,8 @@ report (on the body, seams closed, nothing inside the body, no NaN). Then, unles
 the walk: ``python -m tailor demo --garment GARMENT --no-render`` on the walking sample character
 (the same body, rigged): assembled at its rest pose, blended into the walk, one cycle, judged by
 the same checks. It prints one line per design and the shares that succeed, and writes
-``OUT/summary.json``, ``OUT/table.md`` and a picture of every failure at rest
-(``OUT/failures/NAME.png``: the last frame, front and side).
+``OUT/summary.json``, ``OUT/table.md`` and a picture of every failure (``OUT/failures/NAME.png``:
+the last frame at rest; ``NAME-walk.png``: the walk's first failing frame; front and side).
 """
 
 from __future__ import annotations
@@ -111,6 +111,25 @@ def run_one(name: str, spec: Path, kind: dict, body: Path, args, work: Path) -> 
     return row
 
 
+def walk_picture(name: str, row: dict, out: Path) -> None:
+    """`failures/NAME-walk.png`: the walk's first failing frame, on the character posed as the
+    demo posed it then (the report's phases give its rest and blend frames)."""
+    from tailor.commands import on_character
+
+    demo = out / "work" / f"{name}-walk"
+    report = json.loads((demo / "report.json").read_text())
+    first = min(v["frame"] for v in report["summary"]["verdict"])
+    phases = [r["phase"] for r in report["frames"]]
+    schedule = on_character.Schedule(phases.count("assemble"), phases.count("blend"))
+    character = on_character.Character(REPO / "sample_blends" / "character.glb")
+    import tailor
+
+    cloth = tailor.read_pc2(str(demo / "garment.pc2"))["frames"][first - 1]
+    picture.garment_on_body(character.at(first - 1, schedule), cloth,
+                            f"{name} {row['kind']} walk: {', '.join(row['walk_failed'])}",
+                            str(out / "failures" / f"{name}-walk.png"))
+
+
 def main(argv=None) -> int:
     args = parse_args(argv)
     out = Path(args.out)
@@ -134,6 +153,8 @@ def main(argv=None) -> int:
             last = tailor.read_pc2(str(cache))["frames"][-1]
             picture.garment_on_body(bv, last, f"{name} {row['kind']}: {', '.join(row['failed'])}",
                                     str(out / "failures" / f"{name}.png"))
+        if args.walk and not row.get("walk_ok") and row.get("walk_failed") != ["demo"]:
+            walk_picture(name, row, out)
         walk = ("" if not args.walk else
                 f" | walk {'ok  ' if row.get('walk_ok') else 'FAIL'} {','.join(row.get('walk_failed', [])):12s} "
                 f"shift {row.get('walk_shift_m', float('nan')):5.2f} m gap {row.get('walk_seam_gap_mm', float('nan')):6.2f} mm")

@@ -26,6 +26,8 @@
 //! * [`stability`]: the numerical stress cases (`tests/stability.rs`, `make stress`).
 //! * [`weld`]: the sewn pieces merged along their seams into one mesh, for export (unequal seams
 //!   split so the result stays watertight).
+//! * [`files`]: reading what a user names and what their files name (confined, size-checked),
+//!   and checking a run's outputs before it runs.
 //! * [`io`]: triangle meshes from OBJ, PLY and glTF (skinned animation included) and the
 //!   Point Cache 2 vertex-animation format.
 //!
@@ -34,6 +36,7 @@
 pub mod bend;
 pub mod collision;
 pub mod error;
+pub mod files;
 pub mod garment;
 pub mod garment_file;
 #[cfg(feature = "gpu")]

@@ -17,7 +17,7 @@ use crate::seam::Seam;
 pub const FORMAT: &str = "tailor-garment";
 /// The version this build writes; it reads this version and older.
 pub const VERSION: u32 = 1;
-const MAGIC: &[u8; 8] = b"TLRBIN\0\x01";
+pub(crate) const MAGIC: &[u8; 8] = b"TLRBIN\0\x01";
 
 #[derive(Serialize, Deserialize)]
 struct Manifest {
@@ -105,12 +105,18 @@ pub fn encode(garment: &Garment, sidecar_file: &str) -> Result<(String, Vec<u8>)
 
 /// The sidecar file name a manifest names (checked to be a bare file name), without reading it.
 pub fn sidecar_name(json: &str, file: &str) -> Result<String> {
+    Ok(sidecar_ref(json, file)?.0)
+}
+
+/// The sidecar file name a manifest names (checked to be a bare file name) and the size it
+/// records, so that a reader can refuse a bigger file before reading it.
+pub fn sidecar_ref(json: &str, file: &str) -> Result<(String, u64)> {
     let m = parse_manifest(json, file)?;
     let name = m.sidecar.file;
     if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
         return Err(TailorError::parse(file, "sidecar", format!("{name:?} is not a plain file name")));
     }
-    Ok(name)
+    Ok((name, m.sidecar.bytes))
 }
 
 fn parse_manifest(json: &str, file: &str) -> Result<Manifest> {

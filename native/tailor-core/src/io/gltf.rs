@@ -24,6 +24,7 @@ use serde::Deserialize;
 
 use super::{read_bytes, TriMesh};
 use crate::error::{Result, TailorError};
+use crate::files;
 
 #[derive(Deserialize, Default)]
 #[serde(rename_all = "camelCase")]
@@ -76,6 +77,7 @@ struct BufferView {
 #[serde(rename_all = "camelCase")]
 struct Buffer {
     uri: Option<String>,
+    byte_length: Option<u64>,
 }
 
 #[derive(Deserialize, Default)]
@@ -337,8 +339,7 @@ impl GltfScene {
         if bytes.starts_with(b"glTF") {
             Self::from_glb(&bytes, &name)
         } else {
-            let dir = path.parent().unwrap_or(Path::new("."));
-            Self::from_json(&bytes, None, Some(dir), &name)
+            Self::from_json(&bytes, None, Some(path), &name)
         }
     }
 
@@ -373,12 +374,13 @@ impl GltfScene {
         Self::from_json(json, bin, None, file)
     }
 
-    fn from_json(json: &[u8], bin: Option<&[u8]>, dir: Option<&Path>, file: &str) -> Result<Self> {
+    /// `owner` is the `.gltf` file whose folder holds its external buffers (`None` for a GLB).
+    fn from_json(json: &[u8], bin: Option<&[u8]>, owner: Option<&Path>, file: &str) -> Result<Self> {
         let root: Root = serde_json::from_slice(json).map_err(|e| TailorError::parse(file, "JSON", e.to_string()))?;
         let mut buffers = Vec::new();
         for (i, b) in root.buffers.iter().enumerate() {
             let entity = format!("buffer {i}");
-            buffers.push(match (&b.uri, bin, dir) {
+            buffers.push(match (&b.uri, bin, owner) {
                 (None, Some(bin), _) if i == 0 => bin.to_vec(),
                 (Some(uri), _, _) if uri.starts_with("data:") => {
                     return Err(TailorError::Unsupported {
@@ -387,7 +389,14 @@ impl GltfScene {
                         reason: "data: URI buffers".into(),
                     })
                 }
-                (Some(uri), _, Some(dir)) => read_bytes(&dir.join(uri))?,
+                // Confined to the glTF's folder: a URI is data from the file, not a path to trust.
+                (Some(uri), _, Some(owner)) => {
+                    let bytes = files::read_beside(owner, uri, &entity, files::MAX_INPUT_BYTES)?;
+                    if b.byte_length.is_some_and(|n| (bytes.len() as u64) < n) {
+                        return Err(TailorError::parse(file, entity, "the buffer file is shorter than its byteLength"));
+                    }
+                    bytes
+                }
                 _ => return Err(TailorError::parse(file, entity, "no data (no uri and no GLB binary chunk)")),
             });
         }
@@ -419,15 +428,29 @@ impl GltfScene {
             order.push((n, p));
             stack.extend(root.nodes[n].children.iter().rev().map(|&c| (c, Some(n))));
         }
-        let rest: Vec<Trs> = root
-            .nodes
-            .iter()
-            .map(|n| Trs {
+        let mut rest = Vec::with_capacity(nn);
+        for (i, n) in root.nodes.iter().enumerate() {
+            let finite = |v: &[f32]| v.iter().all(|c| c.is_finite());
+            let all = [
+                n.translation.as_ref().map(|v| &v[..]),
+                n.scale.as_ref().map(|v| &v[..]),
+                n.matrix.as_ref().map(|v| &v[..]),
+            ];
+            if !all.iter().flatten().all(|v| finite(v)) {
+                return Err(ctx.err(format!("node {i}"), "non-finite translation, scale or matrix"));
+            }
+            let r = match n.rotation {
+                Some(q) => unit_quat(q).ok_or_else(|| {
+                    ctx.err(format!("node {i}"), format!("rotation {q:?} is not a finite, non-zero quaternion"))
+                })?,
+                None => Quat::IDENTITY,
+            };
+            rest.push(Trs {
                 t: n.translation.map(Vec3::from).unwrap_or(Vec3::ZERO),
-                r: n.rotation.map(Quat::from_array).unwrap_or(Quat::IDENTITY),
+                r,
                 s: n.scale.map(Vec3::from).unwrap_or(Vec3::ONE),
-            })
-            .collect();
+            });
+        }
         let matrices = root.nodes.iter().map(|n| n.matrix.map(|m| Mat4::from_cols_array(&m))).collect();
 
         let mut skins = Vec::new();
@@ -477,6 +500,15 @@ impl GltfScene {
                 }
                 if times.windows(2).any(|w| w[1].partial_cmp(&w[0]).is_none_or(|o| o.is_lt())) {
                     return Err(ctx.err(&entity, "key times are not increasing"));
+                }
+                if times.iter().chain(&values).any(|v| !v.is_finite()) {
+                    return Err(ctx.err(&entity, "non-finite key time or value"));
+                }
+                if path == Path3::Rotation
+                    && values.chunks_exact(4).any(|q| unit_quat([q[0], q[1], q[2], q[3]]).is_none())
+                    && interp != Interp::Cubic
+                {
+                    return Err(ctx.err(&entity, "a rotation key is not a non-zero quaternion"));
                 }
                 duration = duration.max(*times.last().unwrap_or(&0.0));
                 channels.push(Channel { node, path, interp, times, values });
@@ -559,7 +591,11 @@ impl GltfScene {
         if parts.is_empty() {
             return Err(TailorError::EmptyMesh { what: format!("{file}: no triangle mesh in the scene") });
         }
-        Ok(Self { file: file.into(), order, rest, matrices, skins, animations, parts, triangles })
+        let scene = Self { file: file.into(), order, rest, matrices, skins, animations, parts, triangles };
+        // Finite inputs can still overflow once chained (huge scales, matrices): the rest pose
+        // must come out finite, or the file is refused here rather than simulated as NaN.
+        scene.mesh_at(None, 0.0)?.validate(file)?;
+        Ok(scene)
     }
 
     /// Total vertex count over all primitives.
@@ -580,6 +616,9 @@ impl GltfScene {
     /// World-space vertex positions at `time` (seconds) of `animation` (`None`: the rest
     /// pose), written into `out` (its allocation is reused).
     pub fn positions_at(&self, animation: Option<usize>, time: f32, out: &mut Vec<[f32; 3]>) -> Result<()> {
+        if !time.is_finite() {
+            return Err(TailorError::setting("time", time, "must be a finite number of seconds"));
+        }
         let mut local = self.rest.clone();
         if let Some(a) = animation {
             let anim = self.animations.get(a).ok_or_else(|| {
@@ -595,7 +634,8 @@ impl GltfScene {
                 match ch.path {
                     Path3::Translation => trs.t = v.truncate(),
                     Path3::Scale => trs.s = v.truncate(),
-                    Path3::Rotation => trs.r = Quat::from_vec4(v).normalize(),
+                    // A slerp or spline between valid keys can still pass through zero.
+                    Path3::Rotation => trs.r = unit_quat(v.to_array()).unwrap_or(trs.r),
                 }
             }
         }
@@ -643,6 +683,21 @@ impl GltfScene {
         self.positions_at(animation, time, &mut positions)?;
         Ok(TriMesh { positions, triangles: self.triangles.clone() })
     }
+}
+
+/// `q` as a unit quaternion, `None` unless it is finite and non-zero. The norm is taken in
+/// f64: a component of 1.8e19 squares past f32's range, and glam's `normalize` then gives NaN.
+fn unit_quat(q: [f32; 4]) -> Option<Quat> {
+    let n = q.iter().map(|&c| (c as f64) * (c as f64)).sum::<f64>().sqrt();
+    if !(n.is_finite() && n > 0.0) {
+        return None;
+    }
+    Some(Quat::from_xyzw(
+        (q[0] as f64 / n) as f32,
+        (q[1] as f64 / n) as f32,
+        (q[2] as f64 / n) as f32,
+        (q[3] as f64 / n) as f32,
+    ))
 }
 
 /// Samples a channel at time `t` (clamped to the key range) as a `Vec4`.

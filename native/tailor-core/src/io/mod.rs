@@ -67,7 +67,7 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriMesh> {
     }
 }
 
-/// Reads a whole file, mapping the OS error to [`TailorError::Io`].
+/// Reads a whole mesh or cache file: a regular file, at most [`crate::files::MAX_INPUT_BYTES`].
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).map_err(|e| TailorError::io(path.display().to_string(), e))
+    crate::files::read_input(path, crate::files::MAX_INPUT_BYTES)
 }

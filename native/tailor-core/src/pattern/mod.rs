@@ -69,19 +69,7 @@ fn sniff(path: &Path, bytes: &[u8]) -> Option<Format> {
 
 fn load(path: &Path) -> Result<(String, Vec<u8>)> {
     let file = path.display().to_string();
-    let meta = std::fs::metadata(path).map_err(|e| TailorError::io(&file, e))?;
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(TailorError::Unsupported {
-            file,
-            entity: "file".into(),
-            reason: format!(
-                "{} bytes is larger than the {} MB limit for pattern files",
-                meta.len(),
-                MAX_FILE_BYTES >> 20
-            ),
-        });
-    }
-    let bytes = std::fs::read(path).map_err(|e| TailorError::io(&file, e))?;
+    let bytes = crate::files::read_input(path, MAX_FILE_BYTES)?;
     Ok((file, bytes))
 }
 

@@ -19,14 +19,27 @@ pub fn describe(ctx: &str, e: &Entity) -> String {
     format!("{ctx} {} at line {}", e.kind, e.line)
 }
 
+/// The largest coordinate or radius accepted, in the file's units (a kilometre in
+/// micrometres): beyond it a value is damage, not a pattern. An arc of radius 1e308 made its
+/// chain miss its neighbours and the piece disappeared without an error.
+const MAX_COORD: f64 = 1e9;
+
 fn coord(file: &str, ctx: &str, e: &Entity, code: i32) -> Result<f64> {
-    e.num(code).ok_or_else(|| {
+    let v = e.num(code).ok_or_else(|| {
         let reason = match e.get(code) {
             Some(v) => format!("group {code} is not a finite number ({v:?})"),
             None => format!("missing coordinate (group {code})"),
         };
         TailorError::parse(file, describe(ctx, e), reason)
-    })
+    })?;
+    if v.abs() > MAX_COORD {
+        return Err(TailorError::parse(
+            file,
+            describe(ctx, e),
+            format!("group {code} is {v:e}, beyond the {MAX_COORD:e} a pattern can use"),
+        ));
+    }
+    Ok(v)
 }
 
 fn point(file: &str, ctx: &str, e: &Entity, cx: i32) -> Result<Point2> {
@@ -60,7 +73,7 @@ pub fn path(file: &str, ctx: &str, e: &Entity, tol: f64) -> Result<Option<Path>>
             let mut verts: Vec<(Point2, f64)> = Vec::new();
             let mut pending_x: Option<f64> = None;
             for (code, value) in &e.groups {
-                let num = || value.parse::<f64>().ok().filter(|v| v.is_finite());
+                let num = || value.parse::<f64>().ok().filter(|v| v.is_finite() && v.abs() <= MAX_COORD);
                 match code {
                     10 => pending_x = Some(num().ok_or_else(|| bad(&format!("vertex x {value:?} is not a number")))?),
                     20 => {

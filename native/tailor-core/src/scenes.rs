@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::error::Result;
+use crate::error::{Result, TailorError};
 use crate::mesh::ClothMesh;
 use crate::solver::Seam;
 
@@ -40,6 +40,10 @@ pub fn grid_column(nx: usize, ny: usize, i: usize) -> Vec<u32> {
     (0..=ny).map(|j| (j * (nx + 1) + i) as u32).collect()
 }
 
+/// The most grid cells a procedural panel may have (two million: about the triangulation's
+/// vertex budget, and far above any test or benchmark scene).
+const MAX_SCENE_CELLS: f64 = 2.0e6;
+
 /// A tube of two rectangular panels (front and back) sewn along both vertical sides.
 pub struct SewnTube {
     pub mesh: ClothMesh,
@@ -53,6 +57,26 @@ pub struct SewnTube {
 /// `bottom_z`. The front panel's left side is sewn to the back panel's left side, and the
 /// right sides likewise, so the seams start `gap` apart and close in simulation.
 pub fn sewn_tube(width: f32, height: f32, edge: f32, gap: f32, bottom_z: f32, seam_stiffness: f32) -> Result<SewnTube> {
+    // Checked before anything is allocated: `edge` 0 or 1e-6 asked for a grid of 1e11 cells
+    // (or an infinite one) and the process died in the allocator.
+    for (name, v) in [("width", width), ("height", height), ("edge", edge)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(TailorError::setting(name, v, "must be a positive length in metres"));
+        }
+    }
+    for (name, v) in [("gap", gap), ("bottom", bottom_z), ("seam_stiffness", seam_stiffness)] {
+        if !v.is_finite() {
+            return Err(TailorError::setting(name, v, "must be a finite number"));
+        }
+    }
+    let cells = (width as f64 / edge as f64).round().max(2.0) * (height as f64 / edge as f64).round().max(2.0);
+    if cells > MAX_SCENE_CELLS {
+        return Err(TailorError::setting(
+            "edge",
+            edge,
+            format!("{width} x {height} m panels would get {cells:.0} cells each (at most {MAX_SCENE_CELLS:.0})"),
+        ));
+    }
     let nx = ((width / edge).round() as usize).max(2);
     let ny = ((height / edge).round() as usize).max(2);
     let (rest, tris) = rectangle(width, height, nx, ny);

@@ -24,7 +24,7 @@
 use spade::handles::FixedVertexHandle;
 use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2 as SPoint, RefinementParameters, Triangulation};
 
-use super::resample::inside;
+use super::region::Region;
 use crate::error::{Result, TailorError};
 use crate::pattern::Point2;
 
@@ -58,11 +58,13 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
     let n_in = input.points.len();
     let verts: Vec<SPoint<f64>> = input.points.iter().map(|p| SPoint::new(p[0], p[1])).collect();
     let mut conflict = None;
-    let mut cdt: ConstrainedDelaunayTriangulation<SPoint<f64>> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(verts, input.loop_edges.clone(), |e| {
+    // Bulk-loaded, or inserted in order for long thin pieces (`load`).
+    let (mut cdt, order): (ConstrainedDelaunayTriangulation<SPoint<f64>>, _) =
+        super::load::load_cdt(verts, input.loop_edges.clone(), input.n_constraint, |e| {
             conflict.get_or_insert(e);
         })
         .map_err(|e| TailorError::shape(ctx(), format!("triangulation failed: {e}")))?;
+    let spade = |i: usize| order.as_ref().map_or(i, |o| o.spade(i));
     let crossing = |[a, b]: [usize; 2]| {
         let (pa, pb) = (input.points[a], input.points[b]);
         TailorError::shape(
@@ -85,14 +87,16 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
         .with_max_allowed_area(input.area_factor * eq_area)
         // Below a hundredth of the target area a triangle is an input feature, not a defect.
         .with_min_required_area(0.01 * eq_area)
-        .with_max_additional_vertices(10 * n_in + 1000)
+        // Capped by the vertex budget too: a needle (a fuzzed shear of a circle) asked for
+        // millions of Steiner points and took minutes; normal pieces add a few per cent.
+        .with_max_additional_vertices((10 * n_in + 1000).min(super::checks::MAX_VERTICES as usize))
         .exclude_outer_faces(true);
     let result = cdt.refine(params);
 
     // Internal lines crossing each other (a grain line over a balance line) are split where
     // they cross; the crossing becomes a vertex.
     for &[a, b] in &input.line_edges {
-        let (fa, fb) = (FixedVertexHandle::from_index(a), FixedVertexHandle::from_index(b));
+        let (fa, fb) = (FixedVertexHandle::from_index(spade(a)), FixedVertexHandle::from_index(spade(b)));
         if cdt.can_add_constraint(fa, fb) {
             cdt.add_constraint(fa, fb);
         } else {
@@ -104,20 +108,21 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
     // saved before the pass existed) stops here, so their meshes come back as they were saved.
     let complete = input.mesher < 2
         || super::refine::refine(
-        &mut cdt,
-        &super::refine::RefineInput {
-            n_in,
-            n_constraint: input.n_constraint,
-            outline: input.outline,
-            holes: input.holes,
-            h: input.h,
-            min_angle_deg: input.min_angle_deg,
-        },
-    );
+            &mut cdt,
+            &super::refine::RefineInput {
+                n_in,
+                n_constraint: input.n_constraint,
+                outline: input.outline,
+                holes: input.holes,
+                h: input.h,
+                min_angle_deg: input.min_angle_deg,
+            },
+        );
 
     let points: Vec<Point2> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
     let sliver = 1e-9 * eq_area;
     let mut triangles = Vec::with_capacity(cdt.num_inner_faces());
+    let region = Region::new(input.outline, input.holes, input.h);
     for face in cdt.inner_faces() {
         let [a, b, c] = face.vertices().map(|v| v.fix().index() as u32);
         let (pa, pb, pc) = (points[a as usize], points[b as usize], points[c as usize]);
@@ -126,10 +131,22 @@ pub(crate) fn triangulate(input: CdtInput<'_>) -> Result<RawMesh> {
             continue;
         }
         let centroid = [(pa[0] + pb[0] + pc[0]) / 3.0, (pa[1] + pb[1] + pc[1]) / 3.0];
-        if !inside(input.outline, centroid) || input.holes.iter().any(|h| inside(h, centroid)) {
+        if !region.contains(centroid) {
             continue;
         }
         triangles.push(if cross > 0.0 { [a, b, c] } else { [a, c, b] });
     }
+    let (points, triangles) = match order {
+        // Back to input numbering: input point i is vertex i, Steiner points after.
+        Some(o) => {
+            let mut renumbered = points.clone();
+            for (k, p) in points.iter().enumerate() {
+                renumbered[o.input(k)] = *p;
+            }
+            let triangles = triangles.into_iter().map(|t| t.map(|k| o.input(k as usize) as u32)).collect();
+            (renumbered, triangles)
+        }
+        None => (points, triangles),
+    };
     Ok(RawMesh { points, triangles, refinement_complete: result.refinement_complete && complete })
 }

@@ -4,8 +4,10 @@ use super::resample::{self, signed_area};
 use crate::error::{Result, TailorError};
 use crate::pattern::{Piece, Point2};
 
-/// Above this many estimated vertices a resolution is refused rather than exhausting memory.
-const MAX_VERTICES: f64 = 4.0e6;
+/// Above this many estimated vertices a resolution is refused rather than exhausting memory or
+/// time: a million vertices in one piece is far beyond what the solver runs interactively, and
+/// meshes in a few seconds (4 million, the budget before, took 20 s and more).
+pub(crate) const MAX_VERTICES: f64 = 1.0e6;
 
 /// Checks counts, finiteness, orientation, holes inside the outline, and the vertex budget.
 pub(crate) fn validate_piece(piece: &Piece, h: f64) -> Result<()> {
@@ -58,7 +60,25 @@ pub(crate) fn validate_piece(piece: &Piece, h: f64) -> Result<()> {
         }
     }
     let lattice = (hi[0] - lo[0]) * (hi[1] - lo[1]) / cell;
-    if estimate > MAX_VERTICES || lattice > 10.0 * MAX_VERTICES {
+    // Boundary vertices come from the length of the outline, holes and lines, which the area
+    // does not bound: a strip 1e9 m long and 1 mm wide has little area and 2e11 outline points.
+    let length: f64 = std::iter::once(&piece.outline)
+        .chain(&piece.holes)
+        .map(|l| resample::arc_lengths(l, true).last().copied().unwrap_or(0.0))
+        .chain(piece.internal_lines.iter().map(|l| resample::arc_lengths(l, false).last().copied().unwrap_or(0.0)))
+        .sum();
+    let boundary = length / h;
+    if !(boundary <= MAX_VERTICES) {
+        return Err(TailorError::setting(
+            "edge_length",
+            h,
+            format!(
+                "piece {}: its outline, holes and lines ({length:.3e} m) would get about {boundary:.0} vertices (at most {MAX_VERTICES:.0})",
+                piece.name
+            ),
+        ));
+    }
+    if !(estimate <= MAX_VERTICES && lattice <= 10.0 * MAX_VERTICES) {
         return Err(TailorError::setting(
             "edge_length",
             h,

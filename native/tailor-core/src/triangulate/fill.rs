@@ -8,7 +8,8 @@
 //! (outline, hole, internal line) are dropped so no sliver forms against the resampled
 //! boundary; refinement then repairs the thin band between lattice and boundary.
 
-use super::resample::{inside, segment_projection};
+use super::region::Region;
+use super::resample::segment_projection;
 use crate::pattern::Point2;
 
 /// Lattice points inside `outline`, outside every hole, at least `margin·h` from every segment.
@@ -27,6 +28,7 @@ pub(crate) fn lattice_points(
         }
     }
     let grid = SegmentGrid::new(segments, lo, hi, h);
+    let region = Region::new(outline, holes, h);
     let r = margin * h;
     let dy = h * 3f64.sqrt() / 2.0;
     let rows = ((hi[1] - lo[1]) / dy).floor() as usize;
@@ -40,7 +42,7 @@ pub(crate) fn lattice_points(
         let shift = if j % 2 == 1 { 0.5 * h } else { 0.0 };
         for i in 0..=cols {
             let p = [x0 + shift + i as f64 * h, y];
-            if inside(outline, p) && !holes.iter().any(|hole| inside(hole, p)) && grid.clear_of(segments, p, r) {
+            if region.contains(p) && grid.clear_of(segments, p, r) {
                 out.push(p);
             }
         }

@@ -36,11 +36,13 @@ mod contour;
 mod corners;
 mod fill;
 mod lines;
+mod load;
 mod options;
 mod piece_mesh;
 mod pins;
 mod quality;
 mod refine;
+mod region;
 pub(crate) mod resample;
 
 pub use corners::{input_corners, sharpest_input_corner_deg, unexcused_angles, InputCorner};
@@ -123,14 +125,10 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
     corners.sort_unstable();
     corners.dedup();
     let total = cum[m];
-    let outline_map = (0..m)
-        .map(|i| {
-            let nearest = (0..r_out.params.len())
-                .min_by(|&a, &b| circ(r_out.params[a], cum[i], total).total_cmp(&circ(r_out.params[b], cum[i], total)))
-                .unwrap_or(0);
-            pos_of_vertex(nearest)
-        })
-        .collect::<Vec<usize>>();
+    let mut order: Vec<usize> = (0..r_out.params.len()).collect();
+    order.sort_by(|&a, &b| r_out.params[a].total_cmp(&r_out.params[b]).then(a.cmp(&b)));
+    let outline_map =
+        (0..m).map(|i| pos_of_vertex(nearest_param(&r_out.params, &order, cum[i], total))).collect::<Vec<usize>>();
     // Every outline sample is on the boundary unless the outline touches a hole or itself.
     if outline_map.iter().chain(&corners).any(|&p| p == usize::MAX) {
         return Err(TailorError::shape(
@@ -156,6 +154,23 @@ pub fn triangulate_piece(piece: &Piece, options: &TriangulateOptions) -> Result<
         quality,
         warnings,
     })
+}
+
+/// The index of the parameter in `params` circularly nearest `s` (the smallest index among
+/// equals), from `order`, the indices sorted by parameter: a binary search and its neighbours
+/// plus both ends for the wrap, instead of a scan of every parameter per outline point
+/// (quadratic for outlines of many points).
+fn nearest_param(params: &[f64], order: &[usize], s: f64, total: f64) -> usize {
+    let n = order.len();
+    if n == 0 {
+        return 0;
+    }
+    let k = order.partition_point(|&i| params[i] < s);
+    [0, n - 1, k.min(n - 1), k.saturating_sub(1)]
+        .into_iter()
+        .map(|c| order[c])
+        .min_by(|&a, &b| circ(params[a], s, total).total_cmp(&circ(params[b], s, total)).then(a.cmp(&b)))
+        .unwrap_or(0)
 }
 
 fn circ(a: f64, b: f64, total: f64) -> f64 {

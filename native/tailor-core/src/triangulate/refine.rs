@@ -173,6 +173,8 @@ pub(crate) fn refine(cdt: &mut Cdt, input: &RefineInput<'_>) -> bool {
     let mut sharp = sharp_vertices(cdt, input.n_in.min(cdt.num_vertices()));
     sharp.resize(cdt.num_vertices(), false);
     let (mut removals, max_removals) = (0usize, 100 + cdt.num_vertices() / 20);
+    // Indexed once: a plain even-odd test per candidate is quadratic on long pieces.
+    let region = super::region::Region::new(input.outline, input.holes, h);
     let budget = cdt.num_vertices() + 2000;
     let mut added = 0usize;
     let mut complete = true;
@@ -222,7 +224,7 @@ pub(crate) fn refine(cdt: &mut Cdt, input: &RefineInput<'_>) -> bool {
             continue;
         }
         let s = SPoint::new((p[0].x + p[1].x + p[2].x) / 3.0, (p[0].y + p[1].y + p[2].y) / 3.0);
-        if !inside(input.outline, [s.x, s.y]) || input.holes.iter().any(|hl| inside(hl, [s.x, s.y])) {
+        if !region.contains([s.x, s.y]) {
             continue;
         }
         if l2.iter().copied().fold(f64::INFINITY, f64::min) < min_len2 {

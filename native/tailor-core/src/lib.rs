@@ -14,6 +14,7 @@
 //! * [`seam`]: resolution-independent seams between contours, the paper's picking steps, corner
 //!   suggestions, and the sewn pairs and hinges the solver consumes.
 //! * [`bend`]: wrapping a placed piece around an axis before simulation (paper Fig. 4).
+//! * [`playback`]: the frame rate and frame count of a run, checked once for every caller.
 //! * [`placement`]: initial 3D positions from a pattern's placement, or a flat layout.
 //! * [`scenes`]: procedural scenes (rectangles, a sewn tube) for tests, benchmarks and the demo.
 //! * [`garment`]: a pattern assembled into a garment (stitches as seams), and a garment into a
@@ -45,6 +46,7 @@ pub mod io;
 pub mod mesh;
 pub mod pattern;
 pub mod placement;
+pub mod playback;
 pub mod scenes;
 pub mod seam;
 pub mod solver;

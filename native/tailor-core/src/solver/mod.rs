@@ -21,6 +21,7 @@ pub mod model;
 mod objective;
 mod reference;
 pub mod settings;
+mod shape_check;
 pub mod simulation;
 pub mod sleep;
 pub mod soa;

@@ -342,6 +342,7 @@ impl Simulation {
     }
 
     pub fn add_collider(&mut self, c: ImplicitCollider) -> Result<()> {
+        c.shape.validate()?;
         self.sleep.wake();
         for (name, v) in [("static_friction", c.static_friction), ("kinetic_friction", c.kinetic_friction)] {
             super::settings::non_negative(name, v)?;

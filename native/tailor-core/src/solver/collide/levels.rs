@@ -17,6 +17,23 @@
 //! or 0 (collides with everything) where they differ: the seam between two painted regions
 //! stays solid for both.
 
+/// Levels lie in `-MAX_LEVEL..=MAX_LEVEL`: a handful are painted in practice, and a bound keeps
+/// a value read from a file from meaning something else after a wrap (2^32 + 1 arrived as 1,
+/// silently the same level as the left sleeve).
+pub const MAX_LEVEL: i32 = 1 << 16;
+
+/// Checks that every level is within [`MAX_LEVEL`]; `name` says which levels in the error.
+pub fn check_levels(name: &'static str, levels: &[i32]) -> crate::error::Result<()> {
+    match levels.iter().position(|l| l.unsigned_abs() > MAX_LEVEL as u32) {
+        Some(i) => Err(crate::error::TailorError::setting(
+            name,
+            levels[i],
+            format!("entry {i} is out of range (levels lie within ±{MAX_LEVEL})"),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Whether primitives of levels `a` and `b` collide.
 #[inline(always)]
 pub fn levels_collide(a: i32, b: i32) -> bool {
@@ -47,5 +64,13 @@ mod tests {
         assert!(levels_collide(0, 0) && levels_collide(0, 3) && levels_collide(3, 0) && levels_collide(2, 2));
         assert!(!levels_collide(1, 2) && !levels_collide(-1, 1));
         assert_eq!(triangle_levels_from_vertices(&[1, 1, 1, 2], &[[0, 1, 2], [1, 2, 3]]), vec![1, 0]);
+    }
+
+    #[test]
+    fn levels_are_bounded() {
+        assert!(check_levels("particle levels", &[0, 3, -MAX_LEVEL, MAX_LEVEL]).is_ok());
+        let e = check_levels("particle levels", &[0, MAX_LEVEL + 1]).unwrap_err().to_string();
+        assert!(e.contains("particle levels") && e.contains("entry 1"), "{e}");
+        assert!(check_levels("collider levels", &[i32::MIN]).is_err());
     }
 }

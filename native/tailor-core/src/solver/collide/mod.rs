@@ -273,6 +273,7 @@ impl Simulation {
 
     /// Collision levels of a collider, per vertex or per triangle (see [`levels`]).
     pub fn set_collider_levels(&mut self, id: ColliderId, levels: &[i32]) -> Result<()> {
+        levels::check_levels("collider levels", levels)?;
         self.sleep.wake();
         self.mesh_mut(id)?.set_levels(levels)
     }
@@ -290,6 +291,7 @@ impl Simulation {
 
     /// Collision level per cloth particle (see [`levels`]).
     pub fn set_particle_levels(&mut self, levels: &[i32]) -> Result<()> {
+        levels::check_levels("particle levels", levels)?;
         self.sleep.wake();
         if levels.len() != self.num_particles() {
             return Err(TailorError::shape(

@@ -66,6 +66,12 @@ pub enum TailorError {
     /// The operation was cancelled by the caller.
     #[error("cancelled")]
     Cancelled,
+
+    /// A bug in Tailor: a panic caught at the Python boundary (`tailor-py`'s `guard`) instead
+    /// of crossing it. Never returned by the core itself; it lives here so that the one
+    /// mapping to Python covers it too.
+    #[error("internal error (a bug in Tailor, please report it): {reason}")]
+    Internal { reason: String },
 }
 
 /// Result alias used throughout the core crate.

@@ -17,7 +17,9 @@ use crate::errors::to_py;
 /// Integers of any dtype as a flat int64 vector with the array's shape.
 fn ints(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<i64>, Vec<usize>)> {
     let np = obj.py().import("numpy")?;
-    let arr = np.call_method1("ascontiguousarray", (obj, np.getattr("int64")?))?;
+    let arr = np
+        .call_method1("ascontiguousarray", (obj, np.getattr("int64")?))
+        .map_err(|e| to_py(TailorError::shape(name, format!("expected an array of integers: {e}"))))?;
     let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
     let flat = arr.call_method1("reshape", (-1,))?;
     let flat =
@@ -142,22 +144,24 @@ pub fn judge<'py>(
     start: Option<&Bound<'py, PyDict>>,
     nan: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let now = metrics_from_dict(metrics, "metrics")?;
-    let start = match start {
-        Some(s) => metrics_from_dict(s, "start")?,
-        None => now,
-    };
-    let d = PyDict::new(py);
-    d.set_item("centroid_shift_m", verdict::centroid_shift(&start, &now))?;
-    let failed = pyo3::types::PyList::empty(py);
-    for f in verdict::judge(&now, &start, nan) {
-        let e = PyDict::new(py);
-        e.set_item("check", f.check.name())?;
-        e.set_item("reason", f.reason)?;
-        failed.append(e)?;
-    }
-    d.set_item("failed", failed)?;
-    Ok(d)
+    crate::errors::guard(|| {
+        let now = metrics_from_dict(metrics, "metrics")?;
+        let start = match start {
+            Some(s) => metrics_from_dict(s, "start")?,
+            None => now,
+        };
+        let d = PyDict::new(py);
+        d.set_item("centroid_shift_m", verdict::centroid_shift(&start, &now))?;
+        let failed = pyo3::types::PyList::empty(py);
+        for f in verdict::judge(&now, &start, nan) {
+            let e = PyDict::new(py);
+            e.set_item("check", f.check.name())?;
+            e.set_item("reason", f.reason)?;
+            failed.append(e)?;
+        }
+        d.set_item("failed", failed)?;
+        Ok(d)
+    })
 }
 
 /// `tailor.judge_unfinished`: the "open" failure of a run whose last frame still had seams
@@ -168,14 +172,16 @@ pub fn judge_unfinished<'py>(
     seams_closing: bool,
     seam_gap: f32,
 ) -> PyResult<Option<Bound<'py, PyDict>>> {
-    verdict::judge_unfinished(seams_closing, seam_gap)
-        .map(|f| {
-            let e = PyDict::new(py);
-            e.set_item("check", f.check.name())?;
-            e.set_item("reason", f.reason)?;
-            Ok(e)
-        })
-        .transpose()
+    crate::errors::guard(|| {
+        verdict::judge_unfinished(seams_closing, seam_gap)
+            .map(|f| {
+                let e = PyDict::new(py);
+                e.set_item("check", f.check.name())?;
+                e.set_item("reason", f.reason)?;
+                Ok(e)
+            })
+            .transpose()
+    })
 }
 
 /// The verdict's thresholds by name (`tailor.VERDICT_THRESHOLDS`), as the shortest decimals
@@ -216,12 +222,15 @@ pub fn penetration<'py>(
     vertices: &Bound<'py, PyAny>,
     triangles_: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (p, v, t) = (points3(points, "points")?, points3(vertices, "vertices")?, triangles(triangles_, "triangles")?);
-    let pen = py.detach(|| metrics::penetration(&p, &v, &t)).map_err(to_py)?;
-    let d = PyDict::new(py);
-    d.set_item("count", pen.count)?;
-    d.set_item("max_depth", pen.max_depth)?;
-    Ok(d)
+    crate::errors::guard(|| {
+        let (p, v, t) =
+            (points3(points, "points")?, points3(vertices, "vertices")?, triangles(triangles_, "triangles")?);
+        let pen = py.detach(|| metrics::penetration(&p, &v, &t)).map_err(to_py)?;
+        let d = PyDict::new(py);
+        d.set_item("count", pen.count)?;
+        d.set_item("max_depth", pen.max_depth)?;
+        Ok(d)
+    })
 }
 
 /// Number of intersecting pairs of triangles that share no vertex.
@@ -231,8 +240,10 @@ pub fn count_self_intersections(
     vertices: &Bound<'_, PyAny>,
     triangles_: &Bound<'_, PyAny>,
 ) -> PyResult<usize> {
-    let (v, t) = (points3(vertices, "vertices")?, triangles(triangles_, "triangles")?);
-    py.detach(|| metrics::count_self_intersections(&v, &t)).map_err(to_py)
+    crate::errors::guard(|| {
+        let (v, t) = (points3(vertices, "vertices")?, triangles(triangles_, "triangles")?);
+        py.detach(|| metrics::count_self_intersections(&v, &t)).map_err(to_py)
+    })
 }
 
 /// Edge strain |l/l0 - 1| of `edges` (k, 2): {"max": float, "mean": float}.
@@ -243,27 +254,33 @@ pub fn edge_strain<'py>(
     edges: &Bound<'py, PyAny>,
     rest_lengths: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let p = points3(positions, "positions")?;
-    let e = pairs(edges, "edges", p.len())?;
-    let s = metrics::edge_strain(&p, &e, &floats(rest_lengths, "rest_lengths")?).map_err(to_py)?;
-    let d = PyDict::new(py);
-    d.set_item("max", s.max)?;
-    d.set_item("mean", s.mean)?;
-    Ok(d)
+    crate::errors::guard(|| {
+        let p = points3(positions, "positions")?;
+        let e = pairs(edges, "edges", p.len())?;
+        let s = metrics::edge_strain(&p, &e, &floats(rest_lengths, "rest_lengths")?).map_err(to_py)?;
+        let d = PyDict::new(py);
+        d.set_item("max", s.max)?;
+        d.set_item("mean", s.mean)?;
+        Ok(d)
+    })
 }
 
 /// Kinetic energy 1/2 sum m v^2, joules.
 #[pyfunction]
 pub fn kinetic_energy(velocities: &Bound<'_, PyAny>, masses: &Bound<'_, PyAny>) -> PyResult<f64> {
-    metrics::kinetic_energy(&points3(velocities, "velocities")?, &floats(masses, "masses")?).map_err(to_py)
+    crate::errors::guard(|| {
+        metrics::kinetic_energy(&points3(velocities, "velocities")?, &floats(masses, "masses")?).map_err(to_py)
+    })
 }
 
 /// Largest distance between the two points of any pair (k, 2).
 #[pyfunction]
 pub fn max_seam_gap(positions: &Bound<'_, PyAny>, pairs_: &Bound<'_, PyAny>) -> PyResult<f32> {
-    let p = points3(positions, "positions")?;
-    let pr = pairs(pairs_, "pairs", p.len())?;
-    metrics::max_seam_gap(&p, &pr).map_err(to_py)
+    crate::errors::guard(|| {
+        let p = points3(positions, "positions")?;
+        let pr = pairs(pairs_, "pairs", p.len())?;
+        metrics::max_seam_gap(&p, &pr).map_err(to_py)
+    })
 }
 
 /// A new (n, 3) float32 array from rows.

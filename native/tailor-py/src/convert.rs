@@ -11,9 +11,19 @@ use tailor_core::TailorError;
 
 use crate::errors::to_py;
 
-fn contiguous<'py>(obj: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
+/// `obj` as a C-contiguous numpy array of `dtype`. numpy's own error for something that is not
+/// an array of numbers (a string, a ragged list, a value out of the dtype's range) becomes a
+/// `TailorError` naming the argument, as the docs promise for every error.
+fn contiguous<'py>(obj: &Bound<'py, PyAny>, dtype: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
     let np = obj.py().import("numpy")?;
     np.call_method1("ascontiguousarray", (obj, np.getattr(dtype)?))
+        .map_err(|e| shape_err(name, format!("expected an array of numbers ({dtype}): {e}")))
+}
+
+/// `obj` (any array-like) flattened to one dimension, for arguments given as `(k, 2)` rows.
+pub fn flattened<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    let np = obj.py().import("numpy")?;
+    np.call_method1("ravel", (obj,)).map_err(|e| shape_err(name, format!("expected an array: {e}")))
 }
 
 fn shape_err(name: &str, reason: String) -> PyErr {
@@ -24,7 +34,7 @@ fn shape_err(name: &str, reason: String) -> PyErr {
 fn rows_f32<const K: usize>(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[f32; K]>> {
     let arr = match obj.extract::<PyReadonlyArray2<f32>>() {
         Ok(a) if a.is_c_contiguous() => a,
-        _ => contiguous(obj, "float32")?
+        _ => contiguous(obj, "float32", name)?
             .extract::<PyReadonlyArray2<f32>>()
             .map_err(|_| shape_err(name, format!("expected a 2D array of shape (n, {K})")))?,
     };
@@ -48,7 +58,7 @@ pub fn points2(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[f32; 2]>> {
 pub fn floats(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f32>> {
     let arr = match obj.extract::<PyReadonlyArray1<f32>>() {
         Ok(a) => a,
-        Err(_) => contiguous(obj, "float32")?
+        Err(_) => contiguous(obj, "float32", name)?
             .extract::<PyReadonlyArray1<f32>>()
             .map_err(|_| shape_err(name, "expected a 1D array of numbers".into()))?,
     };
@@ -57,7 +67,7 @@ pub fn floats(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f32>> {
 
 /// Integer indices (any integer dtype), checked to be non-negative and below `len` when given.
 fn ints(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<i64>, Vec<usize>)> {
-    let arr = contiguous(obj, "int64")?;
+    let arr = contiguous(obj, "int64", name)?;
     let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
     let flat = arr.call_method1("reshape", (-1,))?;
     let flat = flat.extract::<PyReadonlyArray1<i64>>().map_err(|_| shape_err(name, "expected integers".into()))?;

@@ -10,8 +10,13 @@
 //! ├── PatternError(TailorError, ValueError)        a file could not be read or is unsupported
 //! ├── TailorIOError(TailorError, OSError)
 //! ├── SimulationError(TailorError, RuntimeError)   the solve diverged
-//! └── CancelledError(TailorError)
+//! ├── CancelledError(TailorError)
+//! └── InternalError(TailorError, RuntimeError)    a panic caught at the boundary (a bug)
 //! ```
+//!
+//! Every `#[pyfunction]` and `#[pymethods]` body runs inside [`guard`], so a panic in the core
+//! (or here) reaches Python as `InternalError`, an `Exception`, instead of pyo3's
+//! `PanicException`, a `BaseException` that `except Exception` does not catch.
 
 use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -65,6 +70,28 @@ sub_exception!(
     "The simulation diverged (non-finite values); the state was not advanced."
 );
 sub_exception!(CancelledError, "CancelledError", PyException, "The operation was cancelled.");
+sub_exception!(
+    InternalError,
+    "InternalError",
+    PyRuntimeError,
+    "A bug in Tailor (a Rust panic caught at the boundary); the object it happened in may be unusable."
+);
+
+/// Runs the body of a Python entry point, turning a panic into `InternalError`. The default
+/// panic hook still prints the message and location on stderr, which is what a bug report needs.
+pub fn guard<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(payload) => {
+            let reason = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic without a message".into());
+            Err(to_py(CoreError::Internal { reason }))
+        }
+    }
+}
 
 /// Converts a core error into the matching Python exception.
 pub fn to_py(err: CoreError) -> PyErr {
@@ -84,6 +111,7 @@ pub fn to_py(err: CoreError) -> PyErr {
             CoreError::Io { .. } => TailorIOError::type_object(py),
             CoreError::Diverged { .. } => SimulationError::type_object(py),
             CoreError::Cancelled => CancelledError::type_object(py),
+            CoreError::Internal { .. } => InternalError::type_object(py),
         };
         match ty {
             Ok(ty) => PyErr::from_type(ty, msg),
@@ -103,5 +131,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("TailorIOError", TailorIOError::type_object(py)?)?;
     m.add("SimulationError", SimulationError::type_object(py)?)?;
     m.add("CancelledError", CancelledError::type_object(py)?)?;
+    m.add("InternalError", InternalError::type_object(py)?)?;
     Ok(())
 }

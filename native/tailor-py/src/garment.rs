@@ -51,10 +51,12 @@ impl Garment {
         units: Option<&str>,
         tolerance: f64,
     ) -> PyResult<Self> {
-        let read = read_options(size, units, tolerance)?;
-        let (_, inner, meshes) =
-            py.detach(|| core::read_garment(&path, &read, &TriangulateOptions::new(edge))).map_err(to_py)?;
-        Ok(Self { inner, meshes: Some(meshes) })
+        crate::errors::guard(|| {
+            let read = read_options(size, units, tolerance)?;
+            let (_, inner, meshes) =
+                py.detach(|| core::read_garment(&path, &read, &TriangulateOptions::new(edge))).map_err(to_py)?;
+            Ok(Self { inner, meshes: Some(meshes) })
+        })
     }
 
     /// A garment from its parts, e.g. as a host application (the Blender add-on) keeps them:
@@ -75,88 +77,127 @@ impl Garment {
         bends: Option<Vec<Option<Bound<'_, PyDict>>>>,
         meshers: Option<Vec<u32>>,
     ) -> PyResult<Self> {
-        let n = pieces.len();
-        let count = |what: &'static str, len: usize| {
-            if len == n {
-                Ok(())
-            } else {
-                Err(to_py(TailorError::shape("Garment.from_parts", format!("{n} pieces but {len} {what}"))))
+        crate::errors::guard(|| {
+            let n = pieces.len();
+            let count = |what: &'static str, len: usize| {
+                if len == n {
+                    Ok(())
+                } else {
+                    Err(to_py(TailorError::shape("Garment.from_parts", format!("{n} pieces but {len} {what}"))))
+                }
+            };
+            count("edge lengths", edge_lengths.len())?;
+            let placements = placements.unwrap_or_else(|| vec![None; n]);
+            let bends = bends.unwrap_or_else(|| vec![None; n]);
+            count("placements", placements.len())?;
+            count("bends", bends.len())?;
+            let meshers = meshers.unwrap_or_else(|| vec![MESHER_VERSION; n]);
+            count("meshers", meshers.len())?;
+            let mut inner = garment_file::Garment::default();
+            let parts = pieces.into_iter().zip(edge_lengths).zip(placements).zip(bends).zip(meshers);
+            for ((((piece, edge), placement), bend), mesher) in parts {
+                inner.pieces.push(GarmentPiece {
+                    source: piece.inner,
+                    options: TriangulateOptions { mesher, ..TriangulateOptions::new(edge) },
+                    placement: placement.map(|d| placement_from(&d)).transpose()?,
+                    bend: bend.map(|d| bend_from(&d)).transpose()?,
+                });
             }
-        };
-        count("edge lengths", edge_lengths.len())?;
-        let placements = placements.unwrap_or_else(|| vec![None; n]);
-        let bends = bends.unwrap_or_else(|| vec![None; n]);
-        count("placements", placements.len())?;
-        count("bends", bends.len())?;
-        let meshers = meshers.unwrap_or_else(|| vec![MESHER_VERSION; n]);
-        count("meshers", meshers.len())?;
-        let mut inner = garment_file::Garment::default();
-        let parts = pieces.into_iter().zip(edge_lengths).zip(placements).zip(bends).zip(meshers);
-        for ((((piece, edge), placement), bend), mesher) in parts {
-            inner.pieces.push(GarmentPiece {
-                source: piece.inner,
-                options: TriangulateOptions { mesher, ..TriangulateOptions::new(edge) },
-                placement: placement.map(|d| placement_from(&d)).transpose()?,
-                bend: bend.map(|d| bend_from(&d)).transpose()?,
-            });
-        }
-        inner.seams = seams.into_iter().map(|s| s.inner).collect();
-        let g = &inner;
-        let meshes = py.detach(|| core::triangulate_all(g)).map_err(to_py)?;
-        for seam in &inner.seams {
-            seam.resolve(&meshes).map_err(to_py)?;
-        }
-        Ok(Self { inner, meshes: Some(meshes) })
+            inner.seams = seams.into_iter().map(|s| s.inner).collect();
+            let g = &inner;
+            let meshes = py.detach(|| core::triangulate_all(g)).map_err(to_py)?;
+            for seam in &inner.seams {
+                seam.resolve(&meshes).map_err(to_py)?;
+            }
+            Ok(Self { inner, meshes: Some(meshes) })
+        })
     }
 
     /// Reads a garment file (`NAME.json` with its `NAME.bin` sidecar).
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Self> {
-        Ok(Self { inner: garment_file::load(&path).map_err(to_py)?, meshes: None })
+        crate::errors::guard(|| Ok(Self { inner: garment_file::load(&path).map_err(to_py)?, meshes: None }))
     }
 
     /// Writes the garment file (`path`, plus its `.bin` sidecar next to it).
     fn save(&self, path: PathBuf) -> PyResult<()> {
-        garment_file::save(&self.inner, &path).map_err(to_py)
+        crate::errors::guard(|| garment_file::save(&self.inner, &path).map_err(to_py))
+    }
+
+    /// The file's named settings (its manifest's `settings` object) as JSON text; the add-on
+    /// and `tailor.commands.garment_extras` keep per-piece fabric, levels and choices there.
+    #[getter]
+    fn settings_json(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            serde_json::to_string(&self.inner.settings)
+                .map_err(|e| to_py(TailorError::shape("garment settings", e.to_string())))
+        })
+    }
+
+    /// The painted per-particle parameters as `(name, piece, values)`: float32, int32 or bool
+    /// arrays, one value per vertex of that piece's mesh, as the sidecar holds them.
+    #[getter]
+    fn particle_params<'py>(&self, py: Python<'py>) -> PyResult<Vec<(String, usize, Bound<'py, PyAny>)>> {
+        use garment_file::ParticleValues as V;
+        use numpy::PyArray1;
+        crate::errors::guard(|| {
+            Ok(self
+                .inner
+                .particle_params
+                .iter()
+                .map(|p| {
+                    let values = match &p.values {
+                        V::F32(v) => PyArray1::from_slice(py, v).into_any(),
+                        V::I32(v) => PyArray1::from_slice(py, v).into_any(),
+                        V::Bool(v) => PyArray1::from_slice(py, v).into_any(),
+                    };
+                    (p.name.clone(), p.piece, values)
+                })
+                .collect())
+        })
     }
 
     /// The source pattern pieces, in garment order.
     #[getter]
-    fn pieces(&self) -> Vec<Piece> {
-        self.inner.pieces.iter().map(|p| Piece { inner: p.source.clone() }).collect()
+    fn pieces(&self) -> PyResult<Vec<Piece>> {
+        crate::errors::guard(|| Ok(self.inner.pieces.iter().map(|p| Piece { inner: p.source.clone() }).collect()))
     }
 
     /// Target edge length of each piece, metres.
     #[getter]
-    fn edge_lengths(&self) -> Vec<f64> {
-        self.inner.pieces.iter().map(|p| p.options.edge_length).collect()
+    fn edge_lengths(&self) -> PyResult<Vec<f64>> {
+        crate::errors::guard(|| Ok(self.inner.pieces.iter().map(|p| p.options.edge_length).collect()))
     }
 
     #[getter]
-    fn seams(&self) -> Vec<Seam> {
-        self.inner.seams.iter().map(|s| Seam { inner: s.clone() }).collect()
+    fn seams(&self) -> PyResult<Vec<Seam>> {
+        crate::errors::guard(|| Ok(self.inner.seams.iter().map(|s| Seam { inner: s.clone() }).collect()))
     }
 
     /// The piece meshes at the current resolutions.
     fn meshes(&mut self, py: Python<'_>) -> PyResult<Vec<PieceMesh>> {
-        Ok(self.meshes_ref(py)?.iter().map(|m| PieceMesh { inner: m.clone() }).collect())
+        crate::errors::guard(|| Ok(self.meshes_ref(py)?.iter().map(|m| PieceMesh { inner: m.clone() }).collect()))
     }
 
     /// Adds a seam (checked against the current meshes first). Returns its index.
     fn add_seam(&mut self, py: Python<'_>, seam: Seam) -> PyResult<usize> {
-        seam.inner.resolve(self.meshes_ref(py)?).map_err(to_py)?;
-        self.inner.seams.push(seam.inner);
-        Ok(self.inner.seams.len() - 1)
+        crate::errors::guard(|| {
+            seam.inner.resolve(self.meshes_ref(py)?).map_err(to_py)?;
+            self.inner.seams.push(seam.inner);
+            Ok(self.inner.seams.len() - 1)
+        })
     }
 
     /// Re-triangulates piece `piece` at `edge` metres and remaps the seams (an equal-count
     /// seam whose counts no longer match becomes unequal). Returns the piece's new mesh.
     fn set_resolution(&mut self, py: Python<'_>, piece: usize, edge: f64) -> PyResult<PieceMesh> {
-        let g = &mut self.inner;
-        let meshes = py.detach(|| core::set_resolution(g, piece, edge)).map_err(to_py)?;
-        let out = PieceMesh { inner: meshes[piece].clone() };
-        self.meshes = Some(meshes);
-        Ok(out)
+        crate::errors::guard(|| {
+            let g = &mut self.inner;
+            let meshes = py.detach(|| core::set_resolution(g, piece, edge)).map_err(to_py)?;
+            let out = PieceMesh { inner: meshes[piece].clone() };
+            self.meshes = Some(meshes);
+            Ok(out)
+        })
     }
 
     /// Bends piece `piece` after placement (see `tailor.bend`); `angle_deg = 0` removes it.
@@ -170,20 +211,21 @@ impl Garment {
         symmetry: Option<([f64; 2], [f64; 2])>,
         threshold: f64,
     ) -> PyResult<()> {
-        let n = self.inner.pieces.len();
-        let p =
-            self.inner.pieces.get_mut(piece).ok_or_else(|| {
+        crate::errors::guard(|| {
+            let n = self.inner.pieces.len();
+            let p = self.inner.pieces.get_mut(piece).ok_or_else(|| {
                 to_py(TailorError::setting("piece", piece, format!("must be a piece index below {n}")))
             })?;
-        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
-        p.bend = if angle_deg == 0.0 { None } else { Some(params) };
-        Ok(())
+            let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
+            p.bend = if angle_deg == 0.0 { None } else { Some(params) };
+            Ok(())
+        })
     }
 
     /// Warnings recorded at import (for example internal lines that had to be dropped).
     #[getter]
-    fn warnings(&self) -> Vec<String> {
-        core::import_warnings(&self.inner)
+    fn warnings(&self) -> PyResult<Vec<String>> {
+        crate::errors::guard(|| Ok(core::import_warnings(&self.inner)))
     }
 
     /// Builds the sewn cloth and a `tailor.Simulation` with every seam added. Returns
@@ -200,35 +242,37 @@ impl Garment {
         seam_bend_stiffness: f32,
         gap: f64,
     ) -> PyResult<(Bound<'py, PyAny>, Vec<u32>)> {
-        let meshes = self.meshes_ref(py)?.clone();
-        let g = &self.inner;
-        let options = BuildOptions { gap, seam_stiffness, seam_bend_stiffness };
-        let input = py.detach(|| core::solver_input(g, meshes, &options)).map_err(to_py)?;
-        let m = &input.sewn.mesh;
-        let sim = py.get_type::<crate::simulation::Simulation>().call1((
-            rows(py, m.positions())?,
-            rows(py, m.triangles())?,
-            rows(py, m.rest())?,
-            fabric,
-            settings,
-        ))?;
-        for s in &input.seams {
-            let v: Vec<[[u32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.verts, p.1.verts]).collect();
-            let w: Vec<[[f32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.weights, p.1.weights]).collect();
-            sim.call_method1(
-                "add_weighted_seam",
-                (
-                    rows(py, &v.iter().map(|x| x[0]).collect::<Vec<_>>())?,
-                    rows(py, &w.iter().map(|x| x[0]).collect::<Vec<_>>())?,
-                    rows(py, &v.iter().map(|x| x[1]).collect::<Vec<_>>())?,
-                    rows(py, &w.iter().map(|x| x[1]).collect::<Vec<_>>())?,
-                    s.stiffness,
-                    s.bend_stiffness,
-                    s.name.as_str(),
-                ),
-            )?;
-        }
-        Ok((sim, input.sewn.offsets.clone()))
+        crate::errors::guard(|| {
+            let meshes = self.meshes_ref(py)?.clone();
+            let g = &self.inner;
+            let options = BuildOptions { gap, seam_stiffness, seam_bend_stiffness };
+            let input = py.detach(|| core::solver_input(g, meshes, &options)).map_err(to_py)?;
+            let m = &input.sewn.mesh;
+            let sim = py.get_type::<crate::simulation::Simulation>().call1((
+                rows(py, m.positions())?,
+                rows(py, m.triangles())?,
+                rows(py, m.rest())?,
+                fabric,
+                settings,
+            ))?;
+            for s in &input.seams {
+                let v: Vec<[[u32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.verts, p.1.verts]).collect();
+                let w: Vec<[[f32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.weights, p.1.weights]).collect();
+                sim.call_method1(
+                    "add_weighted_seam",
+                    (
+                        rows(py, &v.iter().map(|x| x[0]).collect::<Vec<_>>())?,
+                        rows(py, &w.iter().map(|x| x[0]).collect::<Vec<_>>())?,
+                        rows(py, &v.iter().map(|x| x[1]).collect::<Vec<_>>())?,
+                        rows(py, &w.iter().map(|x| x[1]).collect::<Vec<_>>())?,
+                        s.stiffness,
+                        s.bend_stiffness,
+                        s.name.as_str(),
+                    ),
+                )?;
+            }
+            Ok((sim, input.sewn.offsets.clone()))
+        })
     }
 
     /// The garment as one mesh (`tailor.WeldedMesh`): the pieces sewn as `build_simulation`
@@ -236,21 +280,25 @@ impl Garment {
     /// `positions`) or as placed when `None`.
     #[pyo3(signature = (positions=None, gap=0.05))]
     fn welded(&mut self, py: Python<'_>, positions: Option<Bound<'_, PyAny>>, gap: f64) -> PyResult<WeldedMesh> {
-        let positions = positions.map(|p| points3(&p, "positions")).transpose()?;
-        let meshes = self.meshes_ref(py)?.clone();
-        let g = &self.inner;
-        let options = BuildOptions { gap, ..BuildOptions::default() };
-        let inner = py
-            .detach(|| {
-                let input = core::solver_input(g, meshes, &options)?;
-                tailor_core::weld::weld_garment(&input, positions.as_deref())
-            })
-            .map_err(to_py)?;
-        Ok(WeldedMesh { inner })
+        crate::errors::guard(|| {
+            let positions = positions.map(|p| points3(&p, "positions")).transpose()?;
+            let meshes = self.meshes_ref(py)?.clone();
+            let g = &self.inner;
+            let options = BuildOptions { gap, ..BuildOptions::default() };
+            let inner = py
+                .detach(|| {
+                    let input = core::solver_input(g, meshes, &options)?;
+                    tailor_core::weld::weld_garment(&input, positions.as_deref())
+                })
+                .map_err(to_py)?;
+            Ok(WeldedMesh { inner })
+        })
     }
 
-    fn __repr__(&self) -> String {
-        format!("Garment({} pieces, {} seams)", self.inner.pieces.len(), self.inner.seams.len())
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok(format!("Garment({} pieces, {} seams)", self.inner.pieces.len(), self.inner.seams.len()))
+        })
     }
 }
 
@@ -319,11 +367,13 @@ pub fn bend<'py>(
     symmetry: Option<([f64; 2], [f64; 2])>,
     threshold: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let mut p = points3(positions, "positions")?;
-    let r = points2(rest, "rest")?;
-    let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
-    bend_piece(&mut p, &r, &params).map_err(to_py)?;
-    rows(py, &p)
+    crate::errors::guard(|| {
+        let mut p = points3(positions, "positions")?;
+        let r = points2(rest, "rest")?;
+        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
+        bend_piece(&mut p, &r, &params).map_err(to_py)?;
+        rows(py, &p)
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -23,8 +23,10 @@ fn triangles_to_numpy<'py>(py: Python<'py>, t: &[[u32; 3]]) -> PyResult<Bound<'p
 /// A glTF is read in its rest pose; use `AnimatedMesh` for its animation.
 #[pyfunction]
 pub fn read_mesh<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let m = py.detach(|| io::read_mesh(&path)).map_err(to_py)?;
-    Ok((points_to_numpy(py, &m.positions)?, triangles_to_numpy(py, &m.triangles)?))
+    crate::errors::guard(|| {
+        let m = py.detach(|| io::read_mesh(&path)).map_err(to_py)?;
+        Ok((points_to_numpy(py, &m.positions)?, triangles_to_numpy(py, &m.triangles)?))
+    })
 }
 
 /// A glTF/GLB scene with skinned animation, evaluated at any time.
@@ -37,45 +39,49 @@ pub struct AnimatedMesh {
 impl AnimatedMesh {
     #[new]
     fn new(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
-        Ok(Self { scene: py.detach(|| GltfScene::load(&path)).map_err(to_py)? })
+        crate::errors::guard(|| Ok(Self { scene: py.detach(|| GltfScene::load(&path)).map_err(to_py)? }))
     }
 
     #[getter]
-    fn num_vertices(&self) -> usize {
-        self.scene.num_vertices()
+    fn num_vertices(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.scene.num_vertices()))
     }
 
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        triangles_to_numpy(py, self.scene.triangles())
+        crate::errors::guard(|| triangles_to_numpy(py, self.scene.triangles()))
     }
 
     /// `[(name, duration_seconds)]` of the scene's animations.
     #[getter]
-    fn animations(&self) -> Vec<(String, f32)> {
-        self.scene.animations().iter().map(|a| (a.name.clone(), a.duration)).collect()
+    fn animations(&self) -> PyResult<Vec<(String, f32)>> {
+        crate::errors::guard(|| Ok(self.scene.animations().iter().map(|a| (a.name.clone(), a.duration)).collect()))
     }
 
     /// Skinned vertex positions (n, 3) at `time` seconds of animation `animation` (None = rest).
     #[pyo3(signature = (time, animation=Some(0)))]
     fn positions_at<'py>(&self, py: Python<'py>, time: f32, animation: Option<usize>) -> PyResult<Bound<'py, PyAny>> {
-        let anim = animation.filter(|_| !self.scene.animations().is_empty());
-        let mut out = Vec::new();
-        self.scene.positions_at(anim, time, &mut out).map_err(to_py)?;
-        points_to_numpy(py, &out)
+        crate::errors::guard(|| {
+            let anim = animation.filter(|_| !self.scene.animations().is_empty());
+            let mut out = Vec::new();
+            self.scene.positions_at(anim, time, &mut out).map_err(to_py)?;
+            points_to_numpy(py, &out)
+        })
     }
 }
 
 /// Reads a PC2 point cache: a dict with `frames` (k, n, 3) float32, `start_frame`, `sample_rate`.
 #[pyfunction]
 pub fn read_pc2<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyDict>> {
-    let c = py.detach(|| io::pc2::read_pc2(&path)).map_err(to_py)?;
-    let d = PyDict::new(py);
-    let flat: Vec<f32> = c.frames.iter().flatten().flatten().copied().collect();
-    d.set_item("frames", PyArray1::from_vec(py, flat).reshape([c.frames.len(), c.num_points, 3])?)?;
-    d.set_item("start_frame", c.start_frame)?;
-    d.set_item("sample_rate", c.sample_rate)?;
-    Ok(d)
+    crate::errors::guard(|| {
+        let c = py.detach(|| io::pc2::read_pc2(&path)).map_err(to_py)?;
+        let d = PyDict::new(py);
+        let flat: Vec<f32> = c.frames.iter().flatten().flatten().copied().collect();
+        d.set_item("frames", PyArray1::from_vec(py, flat).reshape([c.frames.len(), c.num_points, 3])?)?;
+        d.set_item("start_frame", c.start_frame)?;
+        d.set_item("sample_rate", c.sample_rate)?;
+        Ok(d)
+    })
 }
 
 /// Writes a PC2 point cache atomically from `frames` (k, n, 3).
@@ -88,20 +94,22 @@ pub fn write_pc2(
     start_frame: f32,
     sample_rate: f32,
 ) -> PyResult<()> {
-    let arr = frames.py().import("numpy")?.call_method1("asarray", (frames,))?;
-    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
-    if shape.len() != 3 || shape[2] != 3 {
-        return Err(to_py(tailor_core::TailorError::shape(
-            "pc2 frames",
-            format!("expected shape (k, n, 3), got {shape:?}"),
-        )));
-    }
-    let flat = points3(&arr.call_method1("reshape", ((shape[0] * shape[1]) as i64, 3))?, "pc2 frames")?;
-    let cache = PointCache {
-        start_frame,
-        sample_rate,
-        num_points: shape[1],
-        frames: flat.chunks(shape[1].max(1)).map(|c| c.to_vec()).take(shape[0]).collect(),
-    };
-    py.detach(|| io::pc2::write_pc2(&path, &cache)).map_err(to_py)
+    crate::errors::guard(|| {
+        let arr = frames.py().import("numpy")?.call_method1("asarray", (frames,))?;
+        let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+        if shape.len() != 3 || shape[2] != 3 {
+            return Err(to_py(tailor_core::TailorError::shape(
+                "pc2 frames",
+                format!("expected shape (k, n, 3), got {shape:?}"),
+            )));
+        }
+        let flat = points3(&arr.call_method1("reshape", ((shape[0] * shape[1]) as i64, 3))?, "pc2 frames")?;
+        let cache = PointCache {
+            start_frame,
+            sample_rate,
+            num_points: shape[1],
+            frames: flat.chunks(shape[1].max(1)).map(|c| c.to_vec()).take(shape[0]).collect(),
+        };
+        py.detach(|| io::pc2::write_pc2(&path, &cache)).map_err(to_py)
+    })
 }

@@ -8,6 +8,7 @@ mod colliders;
 mod contour;
 mod convert;
 mod errors;
+mod files;
 mod garment;
 mod io;
 mod patterns;
@@ -47,5 +48,6 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<seams::Seam>()?;
     garment::register(m)?;
     weld::register(m)?;
+    files::register(m)?;
     Ok(())
 }

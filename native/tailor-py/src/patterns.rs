@@ -55,65 +55,73 @@ impl Piece {
     /// application can store it (the Blender add-on keeps it on the piece object) and rebuild
     /// the exact same mesh later with `triangulate(Piece.from_json(text), edge)`.
     fn to_json(&self) -> PyResult<String> {
-        serde_json::to_string(&self.inner)
-            .map_err(|e| to_py(TailorError::shape(format!("piece {}", self.inner.name), e.to_string())))
+        crate::errors::guard(|| {
+            serde_json::to_string(&self.inner)
+                .map_err(|e| to_py(TailorError::shape(format!("piece {}", self.inner.name), e.to_string())))
+        })
     }
     /// The piece stored by `to_json`.
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Self> {
-        let inner: core::Piece =
-            serde_json::from_str(text).map_err(|e| to_py(TailorError::parse("piece JSON", "piece", e.to_string())))?;
-        if inner.outline.len() < 3 || inner.outline.iter().flatten().any(|c| !c.is_finite()) {
-            return Err(to_py(TailorError::parse(
-                "piece JSON",
-                inner.name.clone(),
-                "the outline needs at least 3 finite points",
-            )));
-        }
-        Ok(Self { inner })
+        crate::errors::guard(|| {
+            let inner: core::Piece = serde_json::from_str(text)
+                .map_err(|e| to_py(TailorError::parse("piece JSON", "piece", e.to_string())))?;
+            if inner.outline.len() < 3 || inner.outline.iter().flatten().any(|c| !c.is_finite()) {
+                return Err(to_py(TailorError::parse(
+                    "piece JSON",
+                    inner.name.clone(),
+                    "the outline needs at least 3 finite points",
+                )));
+            }
+            Ok(Self { inner })
+        })
     }
     #[getter]
-    fn name(&self) -> &str {
-        &self.inner.name
+    fn name(&self) -> PyResult<&str> {
+        crate::errors::guard(|| Ok(self.inner.name.as_str()))
     }
     /// Outline, an (k, 2) float64 array in metres.
     #[getter]
     fn outline<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows(py, &self.inner.outline)
+        crate::errors::guard(|| rows(py, &self.inner.outline))
     }
     #[getter]
     fn holes<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyAny>>> {
-        self.inner.holes.iter().map(|h| rows(py, h)).collect()
+        crate::errors::guard(|| self.inner.holes.iter().map(|h| rows(py, h)).collect())
     }
     #[getter]
     fn internal_lines<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyAny>>> {
-        self.inner.internal_lines.iter().map(|h| rows(py, h)).collect()
+        crate::errors::guard(|| self.inner.internal_lines.iter().map(|h| rows(py, h)).collect())
     }
     #[getter]
     fn notches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows(py, &self.inner.notches)
+        crate::errors::guard(|| rows(py, &self.inner.notches))
     }
     #[getter]
-    fn fixed_vertices(&self) -> Vec<usize> {
-        self.inner.fixed_vertices.clone()
+    fn fixed_vertices(&self) -> PyResult<Vec<usize>> {
+        crate::errors::guard(|| Ok(self.inner.fixed_vertices.clone()))
     }
     /// `{"translation": [x, y, z], "rotation_deg": [a, b, c], "flipped": bool}` or None.
     #[getter]
     fn placement<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        placement_dict(py, &self.inner.placement)
+        crate::errors::guard(|| placement_dict(py, &self.inner.placement))
     }
     /// Named edges as (start, end) outline indices, walked counter-clockwise.
     #[getter]
-    fn edges(&self) -> Vec<(usize, usize)> {
-        self.inner.edges.iter().map(|e| (e.start, e.end)).collect()
+    fn edges(&self) -> PyResult<Vec<(usize, usize)>> {
+        crate::errors::guard(|| Ok(self.inner.edges.iter().map(|e| (e.start, e.end)).collect()))
     }
-    fn __repr__(&self) -> String {
-        format!(
-            "Piece({:?}, {} outline points, {} holes)",
-            self.inner.name,
-            self.inner.outline.len(),
-            self.inner.holes.len()
-        )
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                format!(
+                    "Piece({:?}, {} outline points, {} holes)",
+                    self.inner.name,
+                    self.inner.outline.len(),
+                    self.inner.holes.len()
+                )
+            })
+        })
     }
 }
 
@@ -126,33 +134,39 @@ pub struct Pattern {
 #[pymethods]
 impl Pattern {
     #[getter]
-    fn source(&self) -> &str {
-        &self.inner.source
+    fn source(&self) -> PyResult<&str> {
+        crate::errors::guard(|| Ok(self.inner.source.as_str()))
     }
     #[getter]
-    fn pieces(&self) -> Vec<Piece> {
-        self.inner.pieces.iter().map(|p| Piece { inner: p.clone() }).collect()
+    fn pieces(&self) -> PyResult<Vec<Piece>> {
+        crate::errors::guard(|| Ok(self.inner.pieces.iter().map(|p| Piece { inner: p.clone() }).collect()))
     }
     /// Stitches as ((piece, edge), (piece, edge)).
     #[getter]
-    fn stitches(&self) -> Vec<((usize, usize), (usize, usize))> {
-        self.inner.stitches.iter().map(|s| ((s.a.piece, s.a.edge), (s.b.piece, s.b.edge))).collect()
+    fn stitches(&self) -> PyResult<Vec<((usize, usize), (usize, usize))>> {
+        crate::errors::guard(|| {
+            Ok(self.inner.stitches.iter().map(|s| ((s.a.piece, s.a.edge), (s.b.piece, s.b.edge))).collect())
+        })
     }
     #[getter]
-    fn sizes(&self) -> Vec<String> {
-        self.inner.sizes.clone()
+    fn sizes(&self) -> PyResult<Vec<String>> {
+        crate::errors::guard(|| Ok(self.inner.sizes.clone()))
     }
     #[getter]
-    fn size(&self) -> Option<String> {
-        self.inner.size.clone()
+    fn size(&self) -> PyResult<Option<String>> {
+        crate::errors::guard(|| Ok(self.inner.size.clone()))
     }
-    fn __repr__(&self) -> String {
-        format!(
-            "Pattern({:?}, {} pieces, {} stitches)",
-            self.inner.source,
-            self.inner.pieces.len(),
-            self.inner.stitches.len()
-        )
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                format!(
+                    "Pattern({:?}, {} pieces, {} stitches)",
+                    self.inner.source,
+                    self.inner.pieces.len(),
+                    self.inner.stitches.len()
+                )
+            })
+        })
     }
 }
 
@@ -166,78 +180,88 @@ pub struct PieceMesh {
 #[pymethods]
 impl PieceMesh {
     #[getter]
-    fn name(&self) -> &str {
-        &self.inner.name
+    fn name(&self) -> PyResult<&str> {
+        crate::errors::guard(|| Ok(self.inner.name.as_str()))
     }
     #[getter]
-    fn edge_length(&self) -> f64 {
-        self.inner.edge_length
+    fn edge_length(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.inner.edge_length))
     }
     /// Rest coordinates, (n, 2) float32, metres.
     #[getter]
     fn rest<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows(py, &self.inner.rest)
+        crate::errors::guard(|| rows(py, &self.inner.rest))
     }
     /// Triangles, (m, 3) uint32.
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows(py, &self.inner.triangles)
+        crate::errors::guard(|| rows(py, &self.inner.triangles))
     }
     /// Outer contour, counter-clockwise vertex indices (uint32).
     #[getter]
-    fn contour<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        PyArray1::from_vec(py, self.inner.contour.clone()).into_any()
+    fn contour<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.contour.clone()).into_any()))
     }
     /// Arc length from the first contour vertex to each contour vertex (float64, metres).
     #[getter]
-    fn contour_param<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        PyArray1::from_vec(py, self.inner.contour_param.clone()).into_any()
+    fn contour_param<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.contour_param.clone()).into_any()))
     }
     #[getter]
-    fn contour_length(&self) -> f64 {
-        self.inner.contour_length
+    fn contour_length(&self) -> PyResult<f64> {
+        crate::errors::guard(|| Ok(self.inner.contour_length))
     }
     /// Contour positions of the corners (pins and sharp turns), ascending.
     #[getter]
-    fn corners(&self) -> Vec<usize> {
-        self.inner.corners.clone()
+    fn corners(&self) -> PyResult<Vec<usize>> {
+        crate::errors::guard(|| Ok(self.inner.corners.clone()))
     }
     /// Contour positions (start, end) of each named edge of the piece.
     #[getter]
-    fn span_map(&self) -> Vec<(usize, usize)> {
-        self.inner.span_map.iter().map(|s| (s[0], s[1])).collect()
+    fn span_map(&self) -> PyResult<Vec<(usize, usize)>> {
+        crate::errors::guard(|| Ok(self.inner.span_map.iter().map(|s| (s[0], s[1])).collect()))
     }
     /// Quality figures: vertices, triangles, min/max angle (deg), edge lengths (m), area (m²)…
     #[getter]
     fn quality<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let q = &self.inner.quality;
-        let d = PyDict::new(py);
-        d.set_item("vertices", q.vertices)?;
-        d.set_item("triangles", q.triangles)?;
-        d.set_item("min_angle_deg", q.min_angle_deg)?;
-        d.set_item("max_angle_deg", q.max_angle_deg)?;
-        d.set_item("min_edge", q.min_edge)?;
-        d.set_item("mean_edge", q.mean_edge)?;
-        d.set_item("max_edge", q.max_edge)?;
-        d.set_item("edges_within_35pct", q.edges_within_35pct)?;
-        d.set_item("contour_min_edge", q.contour_min_edge)?;
-        d.set_item("contour_max_edge", q.contour_max_edge)?;
-        d.set_item("area", q.area)?;
-        d.set_item("refinement_complete", q.refinement_complete)?;
-        Ok(d)
+        crate::errors::guard(|| {
+            let q = &self.inner.quality;
+            let d = PyDict::new(py);
+            d.set_item("vertices", q.vertices)?;
+            d.set_item("triangles", q.triangles)?;
+            d.set_item("min_angle_deg", q.min_angle_deg)?;
+            d.set_item("max_angle_deg", q.max_angle_deg)?;
+            d.set_item("min_edge", q.min_edge)?;
+            d.set_item("mean_edge", q.mean_edge)?;
+            d.set_item("max_edge", q.max_edge)?;
+            d.set_item("edges_within_35pct", q.edges_within_35pct)?;
+            d.set_item("contour_min_edge", q.contour_min_edge)?;
+            d.set_item("contour_max_edge", q.contour_max_edge)?;
+            d.set_item("area", q.area)?;
+            d.set_item("refinement_complete", q.refinement_complete)?;
+            Ok(d)
+        })
     }
     /// Rest position of contour position `i` (wrapping).
-    fn contour_point(&self, i: usize) -> (f32, f32) {
-        let p = self.inner.contour_point(i);
-        (p[0], p[1])
+    fn contour_point(&self, i: usize) -> PyResult<(f32, f32)> {
+        crate::errors::guard(|| {
+            Ok({
+                let p = self.inner.contour_point(i);
+                (p[0], p[1])
+            })
+        })
     }
-    fn __repr__(&self) -> String {
-        format!(
-            "PieceMesh({:?}, {} vertices, {} triangles)",
-            self.inner.name,
-            self.inner.rest.len(),
-            self.inner.triangles.len()
-        )
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                format!(
+                    "PieceMesh({:?}, {} vertices, {} triangles)",
+                    self.inner.name,
+                    self.inner.rest.len(),
+                    self.inner.triangles.len()
+                )
+            })
+        })
     }
 }
 
@@ -251,15 +275,17 @@ pub fn read_pattern(
     units: Option<&str>,
     tolerance: f64,
 ) -> PyResult<Pattern> {
-    let options = read_options(size, units, tolerance)?;
-    let inner = py.detach(|| core::read_pattern(&path, &options)).map_err(to_py)?;
-    Ok(Pattern { inner })
+    crate::errors::guard(|| {
+        let options = read_options(size, units, tolerance)?;
+        let inner = py.detach(|| core::read_pattern(&path, &options)).map_err(to_py)?;
+        Ok(Pattern { inner })
+    })
 }
 
 /// The sizes a graded pattern file offers (empty when it is not graded).
 #[pyfunction]
 pub fn list_sizes(path: PathBuf) -> PyResult<Vec<String>> {
-    core::list_sizes(&path).map_err(to_py)
+    crate::errors::guard(|| core::list_sizes(&path).map_err(to_py))
 }
 
 /// Triangulates `piece` at target edge length `edge` (metres) with mesher `mesher` (default
@@ -268,10 +294,12 @@ pub fn list_sizes(path: PathBuf) -> PyResult<Vec<String>> {
 #[pyfunction]
 #[pyo3(signature = (piece, edge=0.01, mesher=None))]
 pub fn triangulate(py: Python<'_>, piece: Piece, edge: f64, mesher: Option<u32>) -> PyResult<PieceMesh> {
-    let mut options = TriangulateOptions::new(edge);
-    options.mesher = mesher.unwrap_or(tri::MESHER_VERSION);
-    let inner = py.detach(|| tri::triangulate_piece(&piece.inner, &options)).map_err(to_py)?;
-    Ok(PieceMesh { inner })
+    crate::errors::guard(|| {
+        let mut options = TriangulateOptions::new(edge);
+        options.mesher = mesher.unwrap_or(tri::MESHER_VERSION);
+        let inner = py.detach(|| tri::triangulate_piece(&piece.inner, &options)).map_err(to_py)?;
+        Ok(PieceMesh { inner })
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -22,25 +22,27 @@ pub fn sewn_tube<'py>(
     bottom: f32,
     seam_stiffness: f32,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let tube = scenes::sewn_tube(width, height, edge, gap, bottom, seam_stiffness).map_err(to_py)?;
-    let d = PyDict::new(py);
-    let m = &tube.mesh;
-    d.set_item("positions", soa_to_numpy(py, &tailor_core::solver::Vec3Soa::from_aos(m.positions()))?)?;
-    let rest: Vec<f32> = m.rest().iter().flatten().copied().collect();
-    d.set_item("rest", numpy::PyArray1::from_vec(py, rest).reshape([m.num_vertices(), 2])?)?;
-    let tris: Vec<u32> = m.triangles().iter().flatten().copied().collect();
-    d.set_item("triangles", numpy::PyArray1::from_vec(py, tris).reshape([m.num_triangles(), 3])?)?;
-    let seams: Vec<(String, Vec<u32>, Vec<u32>)> = tube
-        .seams
-        .iter()
-        .map(|s| {
-            (
-                s.name.clone(),
-                s.pairs.iter().map(|p| p.0.verts[0]).collect(),
-                s.pairs.iter().map(|p| p.1.verts[0]).collect(),
-            )
-        })
-        .collect();
-    d.set_item("seams", seams)?;
-    Ok(d)
+    crate::errors::guard(|| {
+        let tube = scenes::sewn_tube(width, height, edge, gap, bottom, seam_stiffness).map_err(to_py)?;
+        let d = PyDict::new(py);
+        let m = &tube.mesh;
+        d.set_item("positions", soa_to_numpy(py, &tailor_core::solver::Vec3Soa::from_aos(m.positions()))?)?;
+        let rest: Vec<f32> = m.rest().iter().flatten().copied().collect();
+        d.set_item("rest", numpy::PyArray1::from_vec(py, rest).reshape([m.num_vertices(), 2])?)?;
+        let tris: Vec<u32> = m.triangles().iter().flatten().copied().collect();
+        d.set_item("triangles", numpy::PyArray1::from_vec(py, tris).reshape([m.num_triangles(), 3])?)?;
+        let seams: Vec<(String, Vec<u32>, Vec<u32>)> = tube
+            .seams
+            .iter()
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    s.pairs.iter().map(|p| p.0.verts[0]).collect(),
+                    s.pairs.iter().map(|p| p.1.verts[0]).collect(),
+                )
+            })
+            .collect();
+        d.set_item("seams", seams)?;
+        Ok(d)
+    })
 }

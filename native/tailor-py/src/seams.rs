@@ -76,24 +76,26 @@ impl Seam {
         stiffness: f32,
         bend_stiffness: f32,
     ) -> PyResult<Self> {
-        for (v, n) in [(stiffness, "stiffness"), (bend_stiffness, "bend_stiffness")] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(to_py(TailorError::setting(
-                    if n == "stiffness" { "stiffness" } else { "bend_stiffness" },
-                    v,
-                    "must be a finite factor of 0 or more",
-                )));
+        crate::errors::guard(|| {
+            for (v, n) in [(stiffness, "stiffness"), (bend_stiffness, "bend_stiffness")] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(to_py(TailorError::setting(
+                        if n == "stiffness" { "stiffness" } else { "bend_stiffness" },
+                        v,
+                        "must be a finite factor of 0 or more",
+                    )));
+                }
             }
-        }
-        let inner = core::Seam {
-            name: name.to_string(),
-            a: side_from_dict(a, "a")?,
-            b: side_from_dict(b, "b")?,
-            mode: parse_mode(mode)?,
-            stiffness,
-            bend_stiffness,
-        };
-        Ok(Self { inner })
+            let inner = core::Seam {
+                name: name.to_string(),
+                a: side_from_dict(a, "a")?,
+                b: side_from_dict(b, "b")?,
+                mode: parse_mode(mode)?,
+                stiffness,
+                bend_stiffness,
+            };
+            Ok(Self { inner })
+        })
     }
     /// A validated seam from two picked paths (`piece_a`, `piece_b`: indices of the pieces in
     /// the list later passed to `resolve`).
@@ -110,45 +112,47 @@ impl Seam {
         path_b: &ContourPath,
         mode: &str,
     ) -> PyResult<Self> {
-        let mode = parse_mode(mode)?;
-        let inner = core::Seam::from_paths(
-            name,
-            piece_a,
-            &mesh_a.inner,
-            &path_a.inner,
-            piece_b,
-            &mesh_b.inner,
-            &path_b.inner,
-            mode,
-        )
-        .map_err(to_py)?;
-        Ok(Self { inner })
+        crate::errors::guard(|| {
+            let mode = parse_mode(mode)?;
+            let inner = core::Seam::from_paths(
+                name,
+                piece_a,
+                &mesh_a.inner,
+                &path_a.inner,
+                piece_b,
+                &mesh_b.inner,
+                &path_b.inner,
+                mode,
+            )
+            .map_err(to_py)?;
+            Ok(Self { inner })
+        })
     }
     #[getter]
-    fn name(&self) -> &str {
-        &self.inner.name
+    fn name(&self) -> PyResult<&str> {
+        crate::errors::guard(|| Ok(self.inner.name.as_str()))
     }
     #[getter]
-    fn mode(&self) -> &'static str {
-        mode_name(self.inner.mode)
+    fn mode(&self) -> PyResult<&'static str> {
+        crate::errors::guard(|| Ok(mode_name(self.inner.mode)))
     }
     /// Side A: {"piece", "start", "end", "direction"} (rest positions, metres).
     #[getter]
     fn a<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        side_dict(py, &self.inner.a)
+        crate::errors::guard(|| side_dict(py, &self.inner.a))
     }
     #[getter]
     fn b<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        side_dict(py, &self.inner.b)
+        crate::errors::guard(|| side_dict(py, &self.inner.b))
     }
     /// Factors on the solver's seam stiffness and seam bending stiffness.
     #[getter]
-    fn stiffness(&self) -> f32 {
-        self.inner.stiffness
+    fn stiffness(&self) -> PyResult<f32> {
+        crate::errors::guard(|| Ok(self.inner.stiffness))
     }
     #[getter]
-    fn bend_stiffness(&self) -> f32 {
-        self.inner.bend_stiffness
+    fn bend_stiffness(&self) -> PyResult<f32> {
+        crate::errors::guard(|| Ok(self.inner.bend_stiffness))
     }
     /// Resolves (or remaps) the seam on `meshes` (indexed by piece). Returns a dict: `a`, `b`
     /// (ContourPath), `a_vertices`, `b_vertices` (piece-local indices), `mode`,
@@ -156,26 +160,28 @@ impl Seam {
     /// `pair_a_weights`, `pair_b_vertices`, `pair_b_weights` (piece-local; each row a point
     /// as two weighted vertices, as `Simulation.add_weighted_seam` takes them).
     fn resolve<'py>(&self, py: Python<'py>, meshes: Vec<PieceMesh>) -> PyResult<Bound<'py, PyDict>> {
-        let meshes = meshes_of(&meshes);
-        let r = self.inner.resolve(&meshes).map_err(to_py)?;
-        let (ma, mb) = (&meshes[r.piece_a], &meshes[r.piece_b]);
-        let pairs = r.pairs(ma, mb).map_err(to_py)?;
-        let d = PyDict::new(py);
-        d.set_item("a_vertices", r.a.vertices(ma))?;
-        d.set_item("b_vertices", r.b.vertices(mb))?;
-        d.set_item("mode", mode_name(r.mode))?;
-        d.set_item("length_ratio", r.length_ratio)?;
-        let v = |p: &core::WeightedPoint| [p[0].0, p[1].0];
-        let w = |p: &core::WeightedPoint| [p[0].1, p[1].1];
-        d.set_item("pair_a_vertices", rows(py, &pairs.iter().map(|p| v(&p.a)).collect::<Vec<_>>())?)?;
-        d.set_item("pair_a_weights", rows(py, &pairs.iter().map(|p| w(&p.a)).collect::<Vec<_>>())?)?;
-        d.set_item("pair_b_vertices", rows(py, &pairs.iter().map(|p| v(&p.b)).collect::<Vec<_>>())?)?;
-        d.set_item("pair_b_weights", rows(py, &pairs.iter().map(|p| w(&p.b)).collect::<Vec<_>>())?)?;
-        d.set_item("a", ContourPath { inner: r.a })?;
-        d.set_item("b", ContourPath { inner: r.b })?;
-        Ok(d)
+        crate::errors::guard(|| {
+            let meshes = meshes_of(&meshes);
+            let r = self.inner.resolve(&meshes).map_err(to_py)?;
+            let (ma, mb) = (&meshes[r.piece_a], &meshes[r.piece_b]);
+            let pairs = r.pairs(ma, mb).map_err(to_py)?;
+            let d = PyDict::new(py);
+            d.set_item("a_vertices", r.a.vertices(ma))?;
+            d.set_item("b_vertices", r.b.vertices(mb))?;
+            d.set_item("mode", mode_name(r.mode))?;
+            d.set_item("length_ratio", r.length_ratio)?;
+            let v = |p: &core::WeightedPoint| [p[0].0, p[1].0];
+            let w = |p: &core::WeightedPoint| [p[0].1, p[1].1];
+            d.set_item("pair_a_vertices", rows(py, &pairs.iter().map(|p| v(&p.a)).collect::<Vec<_>>())?)?;
+            d.set_item("pair_a_weights", rows(py, &pairs.iter().map(|p| w(&p.a)).collect::<Vec<_>>())?)?;
+            d.set_item("pair_b_vertices", rows(py, &pairs.iter().map(|p| v(&p.b)).collect::<Vec<_>>())?)?;
+            d.set_item("pair_b_weights", rows(py, &pairs.iter().map(|p| w(&p.b)).collect::<Vec<_>>())?)?;
+            d.set_item("a", ContourPath { inner: r.a })?;
+            d.set_item("b", ContourPath { inner: r.b })?;
+            Ok(d)
+        })
     }
-    fn __repr__(&self) -> String {
-        format!("Seam({:?}, mode={:?})", self.inner.name, mode_name(self.inner.mode))
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| Ok(format!("Seam({:?}, mode={:?})", self.inner.name, mode_name(self.inner.mode))))
     }
 }

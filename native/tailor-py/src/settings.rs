@@ -25,18 +25,29 @@ pub struct Fabric {
 impl Fabric {
     #[new]
     #[pyo3(signature = (density=None, stretch=None, shear=None, bend=None))]
-    fn new(density: Option<f32>, stretch: Option<f32>, shear: Option<f32>, bend: Option<f32>) -> Self {
-        let d = core::Fabric::default();
-        Self {
-            density: density.unwrap_or(d.density),
-            stretch: stretch.unwrap_or(d.stretch),
-            shear: shear.unwrap_or(d.shear),
-            bend: bend.unwrap_or(d.bend),
-        }
+    fn new(density: Option<f32>, stretch: Option<f32>, shear: Option<f32>, bend: Option<f32>) -> PyResult<Self> {
+        crate::errors::guard(|| {
+            Ok({
+                let d = core::Fabric::default();
+                Self {
+                    density: density.unwrap_or(d.density),
+                    stretch: stretch.unwrap_or(d.stretch),
+                    shear: shear.unwrap_or(d.shear),
+                    bend: bend.unwrap_or(d.bend),
+                }
+            })
+        })
     }
 
-    fn __repr__(&self) -> String {
-        format!("Fabric(density={}, stretch={}, shear={}, bend={})", self.density, self.stretch, self.shear, self.bend)
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                format!(
+                    "Fabric(density={}, stretch={}, shear={}, bend={})",
+                    self.density, self.stretch, self.shear, self.bend
+                )
+            })
+        })
     }
 }
 
@@ -79,43 +90,75 @@ pub struct Settings {
     pub colouring_seed: u64,
 }
 
+/// The settings' field names, as the errors of `Settings(**kwargs)` name them.
+const SETTINGS_FIELDS: &[&str] = &[
+    "substeps",
+    "iterations",
+    "tolerance",
+    "method",
+    "gravity",
+    "air_damping",
+    "ramp_enabled",
+    "ramp_closing_damping",
+    "ramp_gap_threshold",
+    "ramp_closed_fraction",
+    "ramp_release_gap",
+    "ramp_release_time",
+    "ramp_closing_speed",
+    "ramp_closing_gravity",
+    "chebyshev_rho",
+    "colouring_seed",
+];
+
 #[pymethods]
 impl Settings {
     #[new]
     #[pyo3(signature = (**kwargs))]
     fn new(py: Python<'_>, kwargs: Option<&Bound<'_, pyo3::types::PyDict>>) -> PyResult<Self> {
-        let obj = Bound::new(py, Self::from(&core::SolverSettings::default()))?;
-        if let Some(kw) = kwargs {
-            for (k, v) in kw.iter() {
-                let name: String = k.extract()?;
-                if !obj.hasattr(name.as_str())? {
-                    return Err(pyo3::exceptions::PyTypeError::new_err(format!("Settings has no field {name:?}")));
+        crate::errors::guard(|| {
+            let obj = Bound::new(py, Self::from(&core::SolverSettings::default()))?;
+            if let Some(kw) = kwargs {
+                for (k, v) in kw.iter() {
+                    let name: String = k.extract()?;
+                    if !obj.hasattr(name.as_str())? {
+                        return Err(pyo3::exceptions::PyTypeError::new_err(format!("Settings has no field {name:?}")));
+                    }
+                    // pyo3's own conversion error (OverflowError for substeps=-1, TypeError for a
+                    // string) becomes InvalidParameterError naming the setting.
+                    if let Err(e) = obj.setattr(name.as_str(), &v) {
+                        let field = SETTINGS_FIELDS.iter().find(|f| **f == name).copied().unwrap_or("Settings");
+                        let value = v.repr().map(|r| r.to_string()).unwrap_or_default();
+                        return Err(to_py(TailorError::setting(field, value, format!("not accepted: {e}"))));
+                    }
                 }
-                obj.setattr(name.as_str(), v)?;
             }
-        }
-        let out = obj.borrow().clone();
-        Ok(out)
+            let out = obj.borrow().clone();
+            Ok(out)
+        })
     }
 
     /// A quality preset of the core ("preview" or "final"): substeps, iterations and
     /// tolerance chosen from the run-time-against-error benchmark (docs/accuracy.md).
     #[staticmethod]
     fn preset(name: &str) -> PyResult<Self> {
-        Ok(Self::from(&core::SolverSettings::preset(name).map_err(to_py)?))
+        crate::errors::guard(|| Ok(Self::from(&core::SolverSettings::preset(name).map_err(to_py)?)))
     }
 
     /// The preset names, fastest first.
     #[staticmethod]
-    fn presets() -> Vec<&'static str> {
-        core::PRESETS.to_vec()
+    fn presets() -> PyResult<Vec<&'static str>> {
+        crate::errors::guard(|| Ok(core::PRESETS.to_vec()))
     }
 
-    fn __repr__(&self) -> String {
-        format!(
-            "Settings(substeps={}, iterations={}, tolerance={}, method={:?}, gravity={:?}, air_damping={})",
-            self.substeps, self.iterations, self.tolerance, self.method, self.gravity, self.air_damping
-        )
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                format!(
+                    "Settings(substeps={}, iterations={}, tolerance={}, method={:?}, gravity={:?}, air_damping={})",
+                    self.substeps, self.iterations, self.tolerance, self.method, self.gravity, self.air_damping
+                )
+            })
+        })
     }
 }
 

@@ -82,170 +82,190 @@ impl Simulation {
         settings: Option<Settings>,
         backend: &str,
     ) -> PyResult<Self> {
-        let backend = parse_backend(backend)?;
-        let mesh = ClothMesh::new(
-            points3(positions, "positions")?,
-            points2(rest, "rest")?,
-            triangles(triangles_, "triangles")?,
-        )
-        .map_err(to_py)?;
-        let fabric = fabric.as_ref().map(core::Fabric::from).unwrap_or_default();
-        let settings = match settings {
-            Some(s) => s.to_core()?,
-            None => core::SolverSettings::default(),
-        };
-        let sim = core::Simulation::new(mesh, fabric, settings).map_err(to_py)?;
-        Ok(Self { inner: core::Solver::new(sim, backend) })
+        crate::errors::guard(|| {
+            let backend = parse_backend(backend)?;
+            let mesh = ClothMesh::new(
+                points3(positions, "positions")?,
+                points2(rest, "rest")?,
+                triangles(triangles_, "triangles")?,
+            )
+            .map_err(to_py)?;
+            let fabric = fabric.as_ref().map(core::Fabric::from).unwrap_or_default();
+            let settings = match settings {
+                Some(s) => s.to_core()?,
+                None => core::SolverSettings::default(),
+            };
+            let sim = core::Simulation::new(mesh, fabric, settings).map_err(to_py)?;
+            Ok(Self { inner: core::Solver::new(sim, backend) })
+        })
     }
 
     /// Chooses the backend: "auto" (the GPU for large scenes on a hardware adapter), "cpu" or
     /// "gpu" (the CPU, with a warning in `backend_warning` and the step stats, when no
     /// adapter exists or the scene is not supported there). The state is kept.
     fn set_backend(&mut self, backend: &str) -> PyResult<()> {
-        let backend = parse_backend(backend)?;
-        self.inner.set_backend(core::SolverOptions { backend, ..Default::default() });
-        Ok(())
+        crate::errors::guard(|| {
+            let backend = parse_backend(backend)?;
+            self.inner.set_backend(core::SolverOptions { backend, ..Default::default() });
+            Ok(())
+        })
     }
 
     /// The backend the next step will use: "cpu" or "gpu".
     #[getter]
-    fn backend(&self) -> &'static str {
-        backend_name(self.inner.active_backend())
+    fn backend(&self) -> PyResult<&'static str> {
+        crate::errors::guard(|| Ok(backend_name(self.inner.active_backend())))
     }
 
     /// The GPU adapter in use (name, API, type, driver), or None on the CPU.
     #[getter]
-    fn adapter(&self) -> Option<String> {
-        self.inner.adapter()
+    fn adapter(&self) -> PyResult<Option<String>> {
+        crate::errors::guard(|| Ok(self.inner.adapter()))
     }
 
     /// Why the GPU asked for is not in use, or None.
     #[getter]
-    fn backend_warning(&self) -> Option<String> {
-        self.inner.warning().map(str::to_owned)
+    fn backend_warning(&self) -> PyResult<Option<String>> {
+        crate::errors::guard(|| Ok(self.inner.warning().map(str::to_owned)))
     }
 
     #[getter]
-    fn num_particles(&self) -> usize {
-        self.inner.simulation().num_particles()
+    fn num_particles(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.simulation().num_particles()))
     }
 
     #[getter]
-    fn num_triangles(&self) -> usize {
-        self.inner.simulation().model().mesh.num_triangles()
+    fn num_triangles(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.simulation().model().mesh.num_triangles()))
     }
 
     /// Positions, a new (n, 3) float32 array.
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        soa_to_numpy(py, self.inner.positions())
+        crate::errors::guard(|| soa_to_numpy(py, self.inner.positions()))
     }
 
     #[setter(positions)]
     fn set_positions(&mut self, p: &Bound<'_, PyAny>) -> PyResult<()> {
-        let positions = points3(p, "positions")?;
-        self.inner.edit(|sim| sim.set_positions(&positions)).map_err(to_py)
+        crate::errors::guard(|| {
+            let positions = points3(p, "positions")?;
+            self.inner.edit(|sim| sim.set_positions(&positions)).map_err(to_py)
+        })
     }
 
     /// Velocities (brought back from the GPU when it runs the simulation).
     #[getter]
     fn velocities<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        soa_to_numpy(py, self.inner.velocities())
+        crate::errors::guard(|| soa_to_numpy(py, self.inner.velocities()))
     }
 
     #[setter(velocities)]
     fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
-        let velocities = points3(v, "velocities")?;
-        self.inner.edit(|sim| sim.set_velocities(&velocities)).map_err(to_py)
+        crate::errors::guard(|| {
+            let velocities = points3(v, "velocities")?;
+            self.inner.edit(|sim| sim.set_velocities(&velocities)).map_err(to_py)
+        })
     }
 
     /// Triangles, a new (m, 3) uint32 array (what other solvers need to run the same cloth).
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::patterns::rows(py, self.inner.simulation().model().mesh.triangles())
+        crate::errors::guard(|| crate::patterns::rows(py, self.inner.simulation().model().mesh.triangles()))
     }
 
     /// The flat 2D rest shape, a new (n, 2) float32 array, metres.
     #[getter]
     fn rest<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::patterns::rows(py, self.inner.simulation().model().mesh.rest())
+        crate::errors::guard(|| crate::patterns::rows(py, self.inner.simulation().model().mesh.rest()))
     }
 
     /// Unique mesh edges, a new (k, 2) uint32 array (the edges the strain metric measures).
     #[getter]
     fn edges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::patterns::rows(py, &self.inner.simulation().model().mesh.topology().edges)
+        crate::errors::guard(|| crate::patterns::rows(py, &self.inner.simulation().model().mesh.topology().edges))
     }
 
     /// The seams as added: one dict per seam with its name, stiffness, bend_stiffness and the
     /// sewn pairs as (k, 2) vertex and weight arrays per side (a vertex has weights (1, 0)).
     fn seam_pairs<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        self.inner
-            .simulation()
-            .model()
-            .seams
-            .iter()
-            .map(|s| {
-                let d = PyDict::new(py);
-                d.set_item("name", s.name.as_str())?;
-                d.set_item("stiffness", s.stiffness)?;
-                d.set_item("bend_stiffness", s.bend_stiffness)?;
-                let side = |f: fn(&(SeamPoint, SeamPoint)) -> SeamPoint| s.pairs.iter().map(f).collect::<Vec<_>>();
-                for (key, pts) in [("a", side(|p| p.0)), ("b", side(|p| p.1))] {
-                    let v: Vec<[u32; 2]> = pts.iter().map(|p| p.verts).collect();
-                    let w: Vec<[f32; 2]> = pts.iter().map(|p| p.weights).collect();
-                    d.set_item(format!("{key}_vertices"), crate::patterns::rows(py, &v)?)?;
-                    d.set_item(format!("{key}_weights"), crate::patterns::rows(py, &w)?)?;
-                }
-                Ok(d)
-            })
-            .collect()
+        crate::errors::guard(|| {
+            self.inner
+                .simulation()
+                .model()
+                .seams
+                .iter()
+                .map(|s| {
+                    let d = PyDict::new(py);
+                    d.set_item("name", s.name.as_str())?;
+                    d.set_item("stiffness", s.stiffness)?;
+                    d.set_item("bend_stiffness", s.bend_stiffness)?;
+                    let side = |f: fn(&(SeamPoint, SeamPoint)) -> SeamPoint| s.pairs.iter().map(f).collect::<Vec<_>>();
+                    for (key, pts) in [("a", side(|p| p.0)), ("b", side(|p| p.1))] {
+                        let v: Vec<[u32; 2]> = pts.iter().map(|p| p.verts).collect();
+                        let w: Vec<[f32; 2]> = pts.iter().map(|p| p.weights).collect();
+                        d.set_item(format!("{key}_vertices"), crate::patterns::rows(py, &v)?)?;
+                        d.set_item(format!("{key}_weights"), crate::patterns::rows(py, &w)?)?;
+                    }
+                    Ok(d)
+                })
+                .collect()
+        })
     }
 
     /// Particle masses, kg (density × a third of adjacent rest areas × mass scale).
     #[getter]
-    fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        vec_to_numpy(py, self.inner.simulation().masses().to_vec())
+    fn masses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| Ok(vec_to_numpy(py, self.inner.simulation().masses().to_vec())))
     }
 
     #[getter]
-    fn settings(&self) -> Settings {
-        Settings::from(self.inner.simulation().settings())
+    fn settings(&self) -> PyResult<Settings> {
+        crate::errors::guard(|| Ok(Settings::from(self.inner.simulation().settings())))
     }
 
     #[setter(settings)]
     fn set_settings(&mut self, s: Settings) -> PyResult<()> {
-        let settings = s.to_core()?;
-        self.inner.edit(|sim| sim.set_settings(settings)).map_err(to_py)
+        crate::errors::guard(|| {
+            let settings = s.to_core()?;
+            self.inner.edit(|sim| sim.set_settings(settings)).map_err(to_py)
+        })
     }
 
     /// Collision thickness, metres.
     #[setter(thickness)]
     fn set_thickness(&mut self, t: f32) -> PyResult<()> {
-        self.inner.edit(|sim| sim.set_thickness(t)).map_err(to_py)
+        crate::errors::guard(|| self.inner.edit(|sim| sim.set_thickness(t)).map_err(to_py))
     }
 
     fn set_mass_scale(&mut self, scale: &Bound<'_, PyAny>) -> PyResult<()> {
-        let scale = floats(scale, "mass scale")?;
-        self.inner.edit(|sim| sim.set_mass_scale(&scale)).map_err(to_py)
+        crate::errors::guard(|| {
+            let scale = floats(scale, "mass scale")?;
+            self.inner.edit(|sim| sim.set_mass_scale(&scale)).map_err(to_py)
+        })
     }
 
     fn set_triangle_stiffness(&mut self, stretch: &Bound<'_, PyAny>, shear: &Bound<'_, PyAny>) -> PyResult<()> {
-        let (stretch, shear) = (floats(stretch, "stretch")?, floats(shear, "shear")?);
-        self.inner.edit(|sim| sim.set_triangle_stiffness(&stretch, &shear)).map_err(to_py)
+        crate::errors::guard(|| {
+            let (stretch, shear) = (floats(stretch, "stretch")?, floats(shear, "shear")?);
+            self.inner.edit(|sim| sim.set_triangle_stiffness(&stretch, &shear)).map_err(to_py)
+        })
     }
 
     /// Bending stiffness (N·m) per triangle; each interior edge's hinge takes the mean of its two.
     fn set_triangle_bending(&mut self, bend: &Bound<'_, PyAny>) -> PyResult<()> {
-        let bend = floats(bend, "bend")?;
-        self.inner.edit(|sim| sim.set_triangle_bending(&bend)).map_err(to_py)
+        crate::errors::guard(|| {
+            let bend = floats(bend, "bend")?;
+            self.inner.edit(|sim| sim.set_triangle_bending(&bend)).map_err(to_py)
+        })
     }
 
     /// Bending rest shape from a pose (n, 3), keeping its creases; None = flat.
     #[pyo3(signature = (pose=None))]
     fn set_bending_rest_pose(&mut self, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        let p = pose.map(|p| points3(p, "pose")).transpose()?;
-        self.inner.edit(|sim| sim.set_bending_rest_pose(p.as_deref())).map_err(to_py)
+        crate::errors::guard(|| {
+            let p = pose.map(|p| points3(p, "pose")).transpose()?;
+            self.inner.edit(|sim| sim.set_bending_rest_pose(p.as_deref())).map_err(to_py)
+        })
     }
 
     /// Sews vertex path `a` to vertex path `b` one-to-one (equal counts). Returns the number
@@ -259,10 +279,12 @@ impl Simulation {
         bend_stiffness: f32,
         name: &str,
     ) -> PyResult<usize> {
-        let n = self.inner.simulation().num_particles();
-        let (a, b) = (indices(a, "seam side A", n)?, indices(b, "seam side B", n)?);
-        let seam = Seam::one_to_one(name, &a, &b, stiffness, bend_stiffness).map_err(to_py)?;
-        self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
+        crate::errors::guard(|| {
+            let n = self.inner.simulation().num_particles();
+            let (a, b) = (indices(a, "seam side A", n)?, indices(b, "seam side B", n)?);
+            let seam = Seam::one_to_one(name, &a, &b, stiffness, bend_stiffness).map_err(to_py)?;
+            self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
+        })
     }
 
     /// Sews weighted points: each side is (k, 2) vertex indices and (k, 2) weights summing to
@@ -280,48 +302,54 @@ impl Simulation {
         bend_stiffness: f32,
         name: &str,
     ) -> PyResult<usize> {
-        let n = self.inner.simulation().num_particles();
-        let side = |v: &Bound<'_, PyAny>, w: &Bound<'_, PyAny>, label: &str| -> PyResult<Vec<SeamPoint>> {
-            let verts = indices(&v.call_method1("reshape", (-1,))?, label, n)?;
-            let weights = floats(&w.call_method1("reshape", (-1,))?, label)?;
-            if verts.len() != weights.len() || verts.len() % 2 != 0 {
-                return Err(to_py(tailor_core::TailorError::shape(
-                    label,
-                    "vertices and weights must both have shape (k, 2)",
-                )));
+        crate::errors::guard(|| {
+            let n = self.inner.simulation().num_particles();
+            let side = |v: &Bound<'_, PyAny>, w: &Bound<'_, PyAny>, label: &str| -> PyResult<Vec<SeamPoint>> {
+                let verts = indices(&crate::convert::flattened(v, label)?, label, n)?;
+                let weights = floats(&crate::convert::flattened(w, label)?, label)?;
+                if verts.len() != weights.len() || verts.len() % 2 != 0 {
+                    return Err(to_py(tailor_core::TailorError::shape(
+                        label,
+                        "vertices and weights must both have shape (k, 2)",
+                    )));
+                }
+                Ok(verts
+                    .chunks_exact(2)
+                    .zip(weights.chunks_exact(2))
+                    .map(|(v, w)| SeamPoint { verts: [v[0], v[1]], weights: [w[0], w[1]] })
+                    .collect())
+            };
+            let (a, b) = (side(a_vertices, a_weights, "seam side A")?, side(b_vertices, b_weights, "seam side B")?);
+            if a.len() != b.len() {
+                return Err(to_py(tailor_core::TailorError::InvalidSeam {
+                    seam: name.into(),
+                    reason: format!(
+                        "{} points on side A and {} on side B: weighted seams pair row by row",
+                        a.len(),
+                        b.len()
+                    ),
+                }));
             }
-            Ok(verts
-                .chunks_exact(2)
-                .zip(weights.chunks_exact(2))
-                .map(|(v, w)| SeamPoint { verts: [v[0], v[1]], weights: [w[0], w[1]] })
-                .collect())
-        };
-        let (a, b) = (side(a_vertices, a_weights, "seam side A")?, side(b_vertices, b_weights, "seam side B")?);
-        if a.len() != b.len() {
-            return Err(to_py(tailor_core::TailorError::InvalidSeam {
-                seam: name.into(),
-                reason: format!(
-                    "{} points on side A and {} on side B: weighted seams pair row by row",
-                    a.len(),
-                    b.len()
-                ),
-            }));
-        }
-        let seam = Seam { name: name.into(), pairs: a.into_iter().zip(b).collect(), stiffness, bend_stiffness };
-        self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
+            let seam = Seam { name: name.into(), pairs: a.into_iter().zip(b).collect(), stiffness, bend_stiffness };
+            self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
+        })
     }
 
     /// Pins particles hard, at `targets` (k, 3) or where they are.
     #[pyo3(signature = (particles, targets=None))]
     fn pin(&mut self, particles: &Bound<'_, PyAny>, targets: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        let p = indices(particles, "pin", self.inner.simulation().num_particles())?;
-        let t = targets.map(|t| points3(t, "pin targets")).transpose()?;
-        self.inner.edit(|sim| sim.pin(&p, t.as_deref())).map_err(to_py)
+        crate::errors::guard(|| {
+            let p = indices(particles, "pin", self.inner.simulation().num_particles())?;
+            let t = targets.map(|t| points3(t, "pin targets")).transpose()?;
+            self.inner.edit(|sim| sim.pin(&p, t.as_deref())).map_err(to_py)
+        })
     }
 
     fn unpin(&mut self, particles: &Bound<'_, PyAny>) -> PyResult<()> {
-        let p = indices(particles, "unpin", self.inner.simulation().num_particles())?;
-        self.inner.edit(|sim| sim.unpin(&p)).map_err(to_py)
+        crate::errors::guard(|| {
+            let p = indices(particles, "unpin", self.inner.simulation().num_particles())?;
+            self.inner.edit(|sim| sim.unpin(&p)).map_err(to_py)
+        })
     }
 
     /// Soft attachments of particles to targets (k, 3) with a weight (N/m).
@@ -331,23 +359,27 @@ impl Simulation {
         targets: &Bound<'_, PyAny>,
         weight: f32,
     ) -> PyResult<()> {
-        let p = indices(particles, "attachments", self.inner.simulation().num_particles())?;
-        let t = points3(targets, "attachment targets")?;
-        if t.len() != p.len() {
-            return Err(to_py(tailor_core::TailorError::shape(
-                "attachments",
-                format!("{} targets for {} particles", t.len(), p.len()),
-            )));
-        }
-        for (&particle, &target) in p.iter().zip(&t) {
-            self.inner.edit(|sim| sim.add_attachment(Attachment { particle, target, weight })).map_err(to_py)?;
-        }
-        Ok(())
+        crate::errors::guard(|| {
+            let p = indices(particles, "attachments", self.inner.simulation().num_particles())?;
+            let t = points3(targets, "attachment targets")?;
+            if t.len() != p.len() {
+                return Err(to_py(tailor_core::TailorError::shape(
+                    "attachments",
+                    format!("{} targets for {} particles", t.len(), p.len()),
+                )));
+            }
+            for (&particle, &target) in p.iter().zip(&t) {
+                self.inner.edit(|sim| sim.add_attachment(Attachment { particle, target, weight })).map_err(to_py)?;
+            }
+            Ok(())
+        })
     }
 
     fn set_attachment_targets(&mut self, targets: &Bound<'_, PyAny>) -> PyResult<()> {
-        let targets = points3(targets, "attachment targets")?;
-        self.inner.edit(|sim| sim.set_attachment_targets(&targets)).map_err(to_py)
+        crate::errors::guard(|| {
+            let targets = points3(targets, "attachment targets")?;
+            self.inner.edit(|sim| sim.set_attachment_targets(&targets)).map_err(to_py)
+        })
     }
 
     #[pyo3(signature = (center, radius, static_friction=0.5, kinetic_friction=0.3))]
@@ -358,7 +390,7 @@ impl Simulation {
         static_friction: f32,
         kinetic_friction: f32,
     ) -> PyResult<()> {
-        self.add_collider(Shape::Sphere { center, radius }, static_friction, kinetic_friction)
+        crate::errors::guard(|| self.add_collider(Shape::Sphere { center, radius }, static_friction, kinetic_friction))
     }
 
     #[pyo3(signature = (point, normal, static_friction=0.5, kinetic_friction=0.3))]
@@ -369,7 +401,7 @@ impl Simulation {
         static_friction: f32,
         kinetic_friction: f32,
     ) -> PyResult<()> {
-        self.add_collider(Shape::Plane { point, normal }, static_friction, kinetic_friction)
+        crate::errors::guard(|| self.add_collider(Shape::Plane { point, normal }, static_friction, kinetic_friction))
     }
 
     #[pyo3(signature = (a, b, radius, static_friction=0.5, kinetic_friction=0.3))]
@@ -381,37 +413,39 @@ impl Simulation {
         static_friction: f32,
         kinetic_friction: f32,
     ) -> PyResult<()> {
-        self.add_collider(Shape::Capsule { a, b, radius }, static_friction, kinetic_friction)
+        crate::errors::guard(|| self.add_collider(Shape::Capsule { a, b, radius }, static_friction, kinetic_friction))
     }
 
     /// Advances `frames` frames of `dt` seconds each (the GIL is released while solving).
     /// Returns the statistics of the last frame.
     #[pyo3(signature = (dt, frames=1))]
     fn step<'py>(&mut self, py: Python<'py>, dt: f32, frames: u32) -> PyResult<Bound<'py, PyDict>> {
-        let inner = &mut self.inner;
-        let stats = py.detach(|| {
-            let mut last = StepStats::default();
-            for _ in 0..frames.max(1) {
-                last = inner.step(dt)?;
-            }
-            Ok::<_, tailor_core::TailorError>(last)
-        });
-        let stats = stats.map_err(to_py)?;
-        let adapter = if stats.backend == core::ActiveBackend::Gpu { self.inner.adapter() } else { None };
-        stats_dict(py, &stats, adapter)
+        crate::errors::guard(|| {
+            let inner = &mut self.inner;
+            let stats = py.detach(|| {
+                let mut last = StepStats::default();
+                for _ in 0..frames.max(1) {
+                    last = inner.step(dt)?;
+                }
+                Ok::<_, tailor_core::TailorError>(last)
+            });
+            let stats = stats.map_err(to_py)?;
+            let adapter = if stats.backend == core::ActiveBackend::Gpu { self.inner.adapter() } else { None };
+            stats_dict(py, &stats, adapter)
+        })
     }
 
     /// (largest sewn-pair gap in metres, fraction of pairs under the ramp threshold).
-    fn seam_gaps(&self) -> (f32, f32) {
-        self.inner.simulation().seam_gaps()
+    fn seam_gaps(&self) -> PyResult<(f32, f32)> {
+        crate::errors::guard(|| Ok(self.inner.simulation().seam_gaps()))
     }
 
-    fn colour_count(&mut self) -> usize {
-        self.inner.edit(|sim| sim.colour_count())
+    fn colour_count(&mut self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.edit(|sim| sim.colour_count())))
     }
 
-    fn state_hash(&self) -> u64 {
-        self.inner.simulation().state_hash()
+    fn state_hash(&self) -> PyResult<u64> {
+        crate::errors::guard(|| Ok(self.inner.simulation().state_hash()))
     }
 
     /// Measures `iterations` iterations of `method` on the next substep against the reference
@@ -426,25 +460,30 @@ impl Simulation {
         reference_iterations: u32,
         reference_tolerance: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let method = parse_method(method)?;
-        let opts = ReferenceOptions { max_iterations: reference_iterations, tolerance_m: reference_tolerance };
-        let inner = &mut self.inner;
-        let m = py.detach(|| inner.edit(|s| s.measure_step(dt, method, iterations, opts))).map_err(to_py)?;
-        let d = PyDict::new(py);
-        let r = PyDict::new(py);
-        r.set_item("iterations", m.reference.iterations)?;
-        r.set_item("last_change", m.reference.last_change)?;
-        r.set_item("gradient_rel", m.reference.gradient_rel)?;
-        r.set_item("seconds", m.reference.seconds)?;
-        d.set_item("reference", r)?;
-        let col = |f: &dyn Fn(&core::IterationRecord) -> f64| m.records.iter().map(f).collect::<Vec<f64>>();
-        d.set_item("iteration", PyArray1::from_vec(py, m.records.iter().map(|r| r.iteration).collect::<Vec<u32>>()))?;
-        d.set_item("seconds", vec64_to_numpy(py, col(&|r| r.seconds)))?;
-        d.set_item("objective_rel", vec64_to_numpy(py, col(&|r| r.measures.objective_rel)))?;
-        d.set_item("residual_rel", vec64_to_numpy(py, col(&|r| r.measures.residual_rel)))?;
-        d.set_item("distance_rel", vec64_to_numpy(py, col(&|r| r.measures.distance_rel)))?;
-        d.set_item("distance_max", vec64_to_numpy(py, col(&|r| r.measures.distance_max)))?;
-        Ok(d)
+        crate::errors::guard(|| {
+            let method = parse_method(method)?;
+            let opts = ReferenceOptions { max_iterations: reference_iterations, tolerance_m: reference_tolerance };
+            let inner = &mut self.inner;
+            let m = py.detach(|| inner.edit(|s| s.measure_step(dt, method, iterations, opts))).map_err(to_py)?;
+            let d = PyDict::new(py);
+            let r = PyDict::new(py);
+            r.set_item("iterations", m.reference.iterations)?;
+            r.set_item("last_change", m.reference.last_change)?;
+            r.set_item("gradient_rel", m.reference.gradient_rel)?;
+            r.set_item("seconds", m.reference.seconds)?;
+            d.set_item("reference", r)?;
+            let col = |f: &dyn Fn(&core::IterationRecord) -> f64| m.records.iter().map(f).collect::<Vec<f64>>();
+            d.set_item(
+                "iteration",
+                PyArray1::from_vec(py, m.records.iter().map(|r| r.iteration).collect::<Vec<u32>>()),
+            )?;
+            d.set_item("seconds", vec64_to_numpy(py, col(&|r| r.seconds)))?;
+            d.set_item("objective_rel", vec64_to_numpy(py, col(&|r| r.measures.objective_rel)))?;
+            d.set_item("residual_rel", vec64_to_numpy(py, col(&|r| r.measures.residual_rel)))?;
+            d.set_item("distance_rel", vec64_to_numpy(py, col(&|r| r.measures.distance_rel)))?;
+            d.set_item("distance_max", vec64_to_numpy(py, col(&|r| r.measures.distance_max)))?;
+            Ok(d)
+        })
     }
 
     // ----- mesh colliders, levels, friction, self-collision, metrics (see colliders.rs) -----
@@ -461,43 +500,53 @@ impl Simulation {
         cell_size: Option<f32>,
         insertion: &str,
     ) -> PyResult<u32> {
-        let opts = core::MeshColliderOptions {
-            static_friction,
-            kinetic_friction,
-            cell_size,
-            rule: colliders::insertion_rule(insertion)?,
-        };
-        let (v, t) = (points3(vertices, "collider vertices")?, triangles(triangles_, "collider triangles")?);
-        Ok(self.inner.edit(|sim| sim.add_mesh_collider(&v, &t, opts)).map_err(to_py)?.0)
+        crate::errors::guard(|| {
+            let opts = core::MeshColliderOptions {
+                static_friction,
+                kinetic_friction,
+                cell_size,
+                rule: colliders::insertion_rule(insertion)?,
+            };
+            let (v, t) = (points3(vertices, "collider vertices")?, triangles(triangles_, "collider triangles")?);
+            Ok(self.inner.edit(|sim| sim.add_mesh_collider(&v, &t, opts)).map_err(to_py)?.0)
+        })
     }
 
     #[getter]
-    fn num_mesh_colliders(&self) -> usize {
-        self.inner.simulation().num_mesh_colliders()
+    fn num_mesh_colliders(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.simulation().num_mesh_colliders()))
     }
 
     /// The collider's vertex positions (n, 3) at the end of the next step.
     fn set_collider_positions(&mut self, collider: i64, positions: &Bound<'_, PyAny>) -> PyResult<()> {
-        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-        self.inner.set_collider_positions(id, &points3(positions, "collider positions")?).map_err(to_py)
+        crate::errors::guard(|| {
+            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+            self.inner.set_collider_positions(id, &points3(positions, "collider positions")?).map_err(to_py)
+        })
     }
 
     /// The collider's positions at the last substep run.
     fn collider_positions<'py>(&self, py: Python<'py>, collider: i64) -> PyResult<Bound<'py, PyAny>> {
-        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-        colliders::rows_to_numpy(py, self.inner.simulation().collider_positions(id).map_err(to_py)?)
+        crate::errors::guard(|| {
+            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+            colliders::rows_to_numpy(py, self.inner.simulation().collider_positions(id).map_err(to_py)?)
+        })
     }
 
     /// Collision levels of a collider, one per vertex or one per triangle.
     fn set_collider_levels(&mut self, collider: i64, levels: &Bound<'_, PyAny>) -> PyResult<()> {
-        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-        let levels = colliders::levels(levels, "collider levels")?;
-        self.inner.edit(|sim| sim.set_collider_levels(id, &levels)).map_err(to_py)
+        crate::errors::guard(|| {
+            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+            let levels = colliders::levels(levels, "collider levels")?;
+            self.inner.edit(|sim| sim.set_collider_levels(id, &levels)).map_err(to_py)
+        })
     }
 
     fn set_collider_friction(&mut self, collider: i64, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
-        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-        self.inner.edit(|sim| sim.set_collider_friction(id, static_friction, kinetic_friction)).map_err(to_py)
+        crate::errors::guard(|| {
+            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+            self.inner.edit(|sim| sim.set_collider_friction(id, static_friction, kinetic_friction)).map_err(to_py)
+        })
     }
 
     /// Attaches `particles` softly (`stiffness` N/m each) to mesh collider `collider`, so they
@@ -514,54 +563,68 @@ impl Simulation {
         collider: i64,
         stiffness: f32,
     ) -> PyResult<()> {
-        let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-        let p = indices(particles, "attach_to_collider particles", self.inner.simulation().num_particles())?;
-        let inner = &mut self.inner;
-        py.detach(|| inner.edit(|sim| sim.attach_to_collider(&p, id, stiffness))).map_err(to_py)
+        crate::errors::guard(|| {
+            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+            let p = indices(particles, "attach_to_collider particles", self.inner.simulation().num_particles())?;
+            let inner = &mut self.inner;
+            py.detach(|| inner.edit(|sim| sim.attach_to_collider(&p, id, stiffness))).map_err(to_py)
+        })
     }
 
     /// Removes the collider attachments of `particles` (every one with None); particles not
     /// attached are ignored.
     #[pyo3(signature = (particles=None))]
     fn detach_from_collider(&mut self, particles: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        let n = self.inner.simulation().num_particles();
-        let p = particles.map(|p| indices(p, "detach_from_collider particles", n)).transpose()?;
-        self.inner.edit(|sim| sim.detach_from_collider(p.as_deref())).map_err(to_py)
+        crate::errors::guard(|| {
+            let n = self.inner.simulation().num_particles();
+            let p = particles.map(|p| indices(p, "detach_from_collider particles", n)).transpose()?;
+            self.inner.edit(|sim| sim.detach_from_collider(p.as_deref())).map_err(to_py)
+        })
     }
 
     /// The particles attached to a mesh collider by `attach_to_collider`, a new uint32 array
     /// (in attachment order; the holds while seams close are `closing_holds`).
     #[getter]
-    fn collider_attached<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        let p: Vec<u32> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.particle).collect();
-        PyArray1::from_vec(py, p).into_any()
+    fn collider_attached<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| {
+            Ok({
+                let p: Vec<u32> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.particle).collect();
+                PyArray1::from_vec(py, p).into_any()
+            })
+        })
     }
 
     /// The particles the body holds while the seams close (`Settings.ramp_closing_hold`), a
     /// new uint32 array; empty once the ramp has released.
     #[getter]
-    fn closing_holds<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        PyArray1::from_vec(py, self.inner.simulation().closing_holds().to_vec()).into_any()
+    fn closing_holds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.simulation().closing_holds().to_vec()).into_any()))
     }
 
     /// The targets of the collider attachments at the last substep run, a new (k, 3) float32
     /// array in the order of `collider_attached`.
     #[getter]
     fn collider_attachment_targets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let t: Vec<[f32; 3]> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.target).collect();
-        colliders::rows_to_numpy(py, &t)
+        crate::errors::guard(|| {
+            let t: Vec<[f32; 3]> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.target).collect();
+            colliders::rows_to_numpy(py, &t)
+        })
     }
 
     /// Collision level per cloth particle: a particle of level a and a primitive of level b
     /// collide unless a != 0, b != 0 and a != b.
     fn set_particle_levels(&mut self, levels: &Bound<'_, PyAny>) -> PyResult<()> {
-        let levels = colliders::levels(levels, "particle levels")?;
-        self.inner.edit(|sim| sim.set_particle_levels(&levels)).map_err(to_py)
+        crate::errors::guard(|| {
+            let levels = colliders::levels(levels, "particle levels")?;
+            self.inner.edit(|sim| sim.set_particle_levels(&levels)).map_err(to_py)
+        })
     }
 
     #[getter]
-    fn particle_levels<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        PyArray1::from_vec(py, self.inner.simulation().particle_levels().to_vec()).into_any()
+    fn particle_levels<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| {
+            Ok(PyArray1::from_vec(py, self.inner.simulation().particle_levels().to_vec()).into_any())
+        })
     }
 
     /// Per-particle static and kinetic friction (overriding the colliders' and the
@@ -572,7 +635,7 @@ impl Simulation {
         static_friction: Option<&Bound<'_, PyAny>>,
         kinetic_friction: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        match (static_friction, kinetic_friction) {
+        crate::errors::guard(|| match (static_friction, kinetic_friction) {
             (Some(s), Some(k)) => {
                 let (s, k) = (floats(s, "static_friction")?, floats(k, "kinetic_friction")?);
                 self.inner.edit(|sim| sim.set_particle_friction(Some((&s, &k)))).map_err(to_py)
@@ -582,7 +645,7 @@ impl Simulation {
                 "particle friction",
                 "give both static and kinetic coefficients, or neither",
             ))),
-        }
+        })
     }
 
     /// Self-collision: on/off, sphere radius (None = half the mean rest edge), friction.
@@ -594,38 +657,49 @@ impl Simulation {
         static_friction: f32,
         kinetic_friction: f32,
     ) -> PyResult<()> {
-        let s = core::SelfCollisionSettings { enabled, radius, static_friction, kinetic_friction };
-        self.inner.edit(|sim| sim.set_self_collision(s)).map_err(to_py)
+        crate::errors::guard(|| {
+            let s = core::SelfCollisionSettings { enabled, radius, static_friction, kinetic_friction };
+            self.inner.edit(|sim| sim.set_self_collision(s)).map_err(to_py)
+        })
     }
 
     /// Self-collision settings in effect (radius resolved).
     #[getter]
     fn self_collision<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        colliders::self_collision_dict(
-            py,
-            &self.inner.simulation().self_collision(),
-            self.inner.simulation().self_collision_radius(),
-        )
+        crate::errors::guard(|| {
+            colliders::self_collision_dict(
+                py,
+                &self.inner.simulation().self_collision(),
+                self.inner.simulation().self_collision_radius(),
+            )
+        })
     }
 
     /// Quality of the current state: penetration into mesh collider `collider` (if given),
     /// self-intersections, seam gap, edge strain, kinetic energy.
     #[pyo3(signature = (collider=None))]
     fn metrics<'py>(&mut self, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
-        let id =
-            collider.map(|c| colliders::collider_id(c, self.inner.simulation().num_mesh_colliders())).transpose()?;
-        let inner = &mut self.inner;
-        let m = py.detach(|| inner.metrics(id)).map_err(to_py)?;
-        colliders::metrics_dict(py, &m)
+        crate::errors::guard(|| {
+            let id = collider
+                .map(|c| colliders::collider_id(c, self.inner.simulation().num_mesh_colliders()))
+                .transpose()?;
+            let inner = &mut self.inner;
+            let m = py.detach(|| inner.metrics(id)).map_err(to_py)?;
+            colliders::metrics_dict(py, &m)
+        })
     }
 
-    fn __repr__(&self) -> String {
-        format!(
-            "Simulation({} particles, {} triangles, backend {})",
-            self.inner.simulation().num_particles(),
-            self.inner.simulation().model().mesh.num_triangles(),
-            backend_name(self.inner.active_backend())
-        )
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                format!(
+                    "Simulation({} particles, {} triangles, backend {})",
+                    self.inner.simulation().num_particles(),
+                    self.inner.simulation().model().mesh.num_triangles(),
+                    backend_name(self.inner.active_backend())
+                )
+            })
+        })
     }
 }
 

@@ -23,96 +23,108 @@ impl WeldedMesh {
     /// (k, 3) float32 welded vertex positions.
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows(py, &self.inner.positions)
+        crate::errors::guard(|| rows(py, &self.inner.positions))
     }
 
     /// (m, 3) uint32 triangles over the welded vertices.
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows(py, &self.inner.triangles)
+        crate::errors::guard(|| rows(py, &self.inner.triangles))
     }
 
     /// (n,) uint32: the welded vertex of each input vertex.
     #[getter]
-    fn vertex_map<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        PyArray1::from_vec(py, self.inner.vertex_map.clone()).into_any()
+    fn vertex_map<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.vertex_map.clone()).into_any()))
     }
 
     /// (m,) uint32: the input triangle each welded triangle was cut from.
     #[getter]
-    fn triangle_source<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        PyArray1::from_vec(py, self.inner.triangle_source.clone()).into_any()
+    fn triangle_source<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.triangle_source.clone()).into_any()))
     }
 
     /// (m, 3, 3) float32: each welded corner's barycentric coordinates in its source triangle.
     #[getter]
     fn corner_weights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let flat: Vec<f32> = self.inner.corner_weights.iter().flatten().flatten().copied().collect();
-        Ok(PyArray1::from_vec(py, flat).reshape([self.inner.corner_weights.len(), 3, 3])?.into_any())
+        crate::errors::guard(|| {
+            let flat: Vec<f32> = self.inner.corner_weights.iter().flatten().flatten().copied().collect();
+            Ok(PyArray1::from_vec(py, flat).reshape([self.inner.corner_weights.len(), 3, 3])?.into_any())
+        })
     }
 
     #[getter]
-    fn num_vertices(&self) -> usize {
-        self.inner.num_vertices()
+    fn num_vertices(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.num_vertices()))
     }
 
     /// What the weld did: merged vertices, inserted seam points, split and collapsed
     /// triangles, flipped pieces, and the result's boundary, non-manifold and misoriented edges.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = &self.inner.stats;
-        let d = PyDict::new(py);
-        for (k, v) in [
-            ("input_vertices", s.input_vertices),
-            ("input_triangles", s.input_triangles),
-            ("merged", s.merged),
-            ("inserted_points", s.inserted_points),
-            ("centroids", s.centroids),
-            ("split_triangles", s.split_triangles),
-            ("collapsed_triangles", s.collapsed_triangles),
-            ("flipped_pieces", s.flipped_pieces),
-            ("boundary_edges", s.boundary_edges),
-            ("non_manifold_edges", s.non_manifold_edges),
-            ("misoriented_edges", s.misoriented_edges),
-        ] {
-            d.set_item(k, v)?;
-        }
-        Ok(d)
+        crate::errors::guard(|| {
+            let s = &self.inner.stats;
+            let d = PyDict::new(py);
+            for (k, v) in [
+                ("input_vertices", s.input_vertices),
+                ("input_triangles", s.input_triangles),
+                ("merged", s.merged),
+                ("inserted_points", s.inserted_points),
+                ("centroids", s.centroids),
+                ("split_triangles", s.split_triangles),
+                ("collapsed_triangles", s.collapsed_triangles),
+                ("flipped_pieces", s.flipped_pieces),
+                ("boundary_edges", s.boundary_edges),
+                ("non_manifold_edges", s.non_manifold_edges),
+                ("misoriented_edges", s.misoriented_edges),
+            ] {
+                d.set_item(k, v)?;
+            }
+            Ok(d)
+        })
     }
 
     /// Welds one frame of the input vertices ((n, 3), e.g. a baked or PC2 frame) into (k, 3).
     fn apply<'py>(&self, py: Python<'py>, frame: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let f = points3(frame, "frame")?;
-        let out = py.detach(|| self.inner.apply(&f)).map_err(to_py)?;
-        rows(py, &out)
+        crate::errors::guard(|| {
+            let f = points3(frame, "frame")?;
+            let out = py.detach(|| self.inner.apply(&f)).map_err(to_py)?;
+            rows(py, &out)
+        })
     }
 
     /// Carries a per-corner attribute over: `values` is (3 × input triangles, d) float32, one
     /// row per input corner in triangle order (Blender's loops of triangles, e.g. UVs); returns
     /// (3 × welded triangles, d).
     fn apply_corners<'py>(&self, py: Python<'py>, values: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let np = py.import("numpy")?;
-        let arr = np.call_method1("ascontiguousarray", (values, np.getattr("float32")?))?;
-        let arr = arr
-            .extract::<PyReadonlyArray2<f32>>()
-            .map_err(|_| to_py(TailorError::shape("values", "expected a 2D array of shape (3 × triangles, d)")))?;
-        let width = arr.shape()[1];
-        let flat = arr.as_slice().map_err(|e| to_py(TailorError::shape("values", e.to_string())))?;
-        let out = self.inner.apply_corners(flat, width).map_err(to_py)?;
-        let rows_out = out.len() / width.max(1);
-        Ok(PyArray1::from_vec(py, out).reshape([rows_out, width])?.into_any())
+        crate::errors::guard(|| {
+            let np = py.import("numpy")?;
+            let arr = np.call_method1("ascontiguousarray", (values, np.getattr("float32")?))?;
+            let arr = arr
+                .extract::<PyReadonlyArray2<f32>>()
+                .map_err(|_| to_py(TailorError::shape("values", "expected a 2D array of shape (3 × triangles, d)")))?;
+            let width = arr.shape()[1];
+            let flat = arr.as_slice().map_err(|e| to_py(TailorError::shape("values", e.to_string())))?;
+            let out = self.inner.apply_corners(flat, width).map_err(to_py)?;
+            let rows_out = out.len() / width.max(1);
+            Ok(PyArray1::from_vec(py, out).reshape([rows_out, width])?.into_any())
+        })
     }
 
-    fn __repr__(&self) -> String {
-        let s = &self.inner.stats;
-        format!(
-            "WeldedMesh({} vertices, {} triangles; {} merged, {} inserted, {} boundary edges)",
-            self.inner.num_vertices(),
-            self.inner.triangles.len(),
-            s.merged,
-            s.inserted_points,
-            s.boundary_edges
-        )
+    fn __repr__(&self) -> PyResult<String> {
+        crate::errors::guard(|| {
+            Ok({
+                let s = &self.inner.stats;
+                format!(
+                    "WeldedMesh({} vertices, {} triangles; {} merged, {} inserted, {} boundary edges)",
+                    self.inner.num_vertices(),
+                    self.inner.triangles.len(),
+                    s.merged,
+                    s.inserted_points,
+                    s.boundary_edges
+                )
+            })
+        })
     }
 }
 
@@ -162,11 +174,13 @@ pub fn weld(
     triangles_: &Bound<'_, PyAny>,
     seams: Vec<Bound<'_, PyAny>>,
 ) -> PyResult<WeldedMesh> {
-    let p = points3(positions, "positions")?;
-    let t = triangles(triangles_, "triangles")?;
-    let s = seams.iter().enumerate().map(|(i, d)| seam_from(d, i, p.len())).collect::<PyResult<Vec<_>>>()?;
-    let inner = py.detach(|| core::weld(&p, &t, &s)).map_err(to_py)?;
-    Ok(WeldedMesh { inner })
+    crate::errors::guard(|| {
+        let p = points3(positions, "positions")?;
+        let t = triangles(triangles_, "triangles")?;
+        let s = seams.iter().enumerate().map(|(i, d)| seam_from(d, i, p.len())).collect::<PyResult<Vec<_>>>()?;
+        let inner = py.detach(|| core::weld(&p, &t, &s)).map_err(to_py)?;
+        Ok(WeldedMesh { inner })
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -31,7 +31,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from tailor._tailor import (VERDICT_THRESHOLDS, CancelledError, InvalidParameterError, SimulationError, Simulation,
-                            judge, judge_unfinished, write_pc2)
+                            check_playback, judge, judge_unfinished, write_pc2)
 
 #: Quality fields of a frame record, each worst-case (largest) over frames in a summary.
 #: The longest an assembly at the rest pose may go on while its seams are still closing, seconds
@@ -275,6 +275,10 @@ class Bake:
     #: many frames in all (None: `ASSEMBLY_MAX_S` seconds); `preroll_frames` is how many ran.
     preroll_max: int | None = None
     preroll_frames: int = 0
+
+    def __post_init__(self) -> None:
+        # A NaN or zero rate would reach the solver as a NaN or infinite time step.
+        check_playback(self.fps)
 
     @property
     def next_frame(self) -> int:

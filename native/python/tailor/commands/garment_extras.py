@@ -3,8 +3,9 @@
 A garment file (`NAME.json` manifest + `NAME.bin` sidecar, `tailor_core::garment_file`) has room
 for free-form named settings (the manifest's `settings` object) and for painted per-particle
 parameters (arrays in the sidecar, listed in the manifest's `particle_params`). `tailor.Garment`
-saves and loads them intact but exposes neither, so the sample garments (per-piece fabric,
-collision levels) write them here after `Garment.save`, and the demo reads them back. The
+saves and loads them intact and returns them (`Garment.settings_json`, `.particle_params`) but
+does not set them, so the sample garments (per-piece fabric, collision levels) write them here
+after `Garment.save`, and `read_extras` reads them back through `Garment.load`. The
 encoding mirrors `garment_file/codec.rs`: arrays little-endian, each at a multiple of 8 bytes
 after the 8-byte magic, the sidecar's size and FNV-1a 64-bit hash recorded in the manifest;
 `tailor.Garment.load` checks all of it, so a file written here that loads there is well formed.
@@ -71,16 +72,16 @@ def add_extras(
 
 
 def read_extras(manifest: str | os.PathLike) -> tuple[dict[str, Any], dict[str, dict[int, np.ndarray]]]:
-    """(settings, {param name: {piece: values}}) of a garment file."""
-    manifest = Path(manifest)
-    head = json.loads(manifest.read_text())
-    bin_ = (manifest.parent / head["sidecar"]["file"]).read_bytes()
+    """The named settings and the per-particle params ({name: {piece: values}}) of a garment
+    file, read by `tailor.Garment.load` (which checks the sidecar's place, size and hash:
+    reading it again here by hand once followed a symbolic link to /dev/zero)."""
+    import tailor
+
+    garment = tailor.Garment.load(manifest)
     params: dict[str, dict[int, np.ndarray]] = {}
-    for r in head.get("particle_params", []):
-        dt = DTYPES[r["dtype"]]
-        a = np.frombuffer(bin_, dt, count=int(r["count"]), offset=int(r["offset"]))
-        params.setdefault(r["name"], {})[int(r["piece"])] = a.astype(bool) if r["dtype"] == "bool" else a.copy()
-    return dict(head.get("settings", {})), params
+    for name, piece, values in garment.particle_params:
+        params.setdefault(name, {})[int(piece)] = np.asarray(values)
+    return dict(json.loads(garment.settings_json)), params
 
 
 def encode_runs(values: np.ndarray) -> list[list[int]]:
@@ -96,7 +97,17 @@ def encode_runs(values: np.ndarray) -> list[list[int]]:
 
 
 def decode_runs(runs: list[list[int]], n: int) -> np.ndarray:
-    out = np.zeros(n, np.int32)
-    for s, length, value in runs:
+    """Inverse of `encode_runs`, as int64 so that no value wraps (2**32 + 1 became 1 in an
+    int32 array); the levels' range is checked where they are set (`set_collider_levels`).
+    Runs outside the `n` values, or that are not [start, length, value] integers, are refused."""
+    import tailor
+
+    out = np.zeros(n, np.int64)
+    for run in runs:
+        if not (isinstance(run, (list, tuple)) and len(run) == 3 and all(isinstance(x, int) for x in run)):
+            raise tailor.InvalidParameterError(f"collider level run {run!r}: expected [start, length, value] integers")
+        s, length, value = run
+        if s < 0 or length < 0 or s + length > n:
+            raise tailor.InvalidParameterError(f"collider level run {run!r} lies outside the mesh's {n} vertices")
         out[s : s + length] = value
     return out

@@ -25,6 +25,10 @@ def register(sub):
 def run(args) -> int:
     import tailor
 
+    # Before the work, not after it: the garment file and its sidecar must not be the pattern,
+    # and their folder must take them (Garment.save also refuses to replace a .bin it did not write).
+    tailor.check_outputs([("PATTERN_FILE", args.pattern)],
+                         [("-o", args.output), ("-o's sidecar", tailor.sidecar_path(args.output))])
     garment = tailor.Garment.from_pattern(args.pattern, edge=args.edge, size=args.size, units=args.units)
     garment.save(args.output)
     for warning in garment.warnings:

@@ -101,21 +101,38 @@ def run(args):
     from tailor import bake
     from tailor.commands import garment_extras, on_character
 
+    # Every check before any work: the settings by name, then the files (an output over an
+    # input, or in a folder it cannot be written to, is refused now rather than after the run).
+    tailor.check_playback(args.fps, args.frames)
+    inputs = [("GARMENT_FILE", args.garment), ("GARMENT_FILE's sidecar", tailor.sidecar_path(args.garment)),
+              ("--collider", args.collider)] + ([("--collider-anim", args.collider_anim)] if args.collider_anim else [])
+    tailor.check_outputs(inputs, [("--report", args.report)] + ([("-o", args.output)] if args.output else []))
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
     gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
     warnings = []
     garment = tailor.Garment.load(args.garment)
-    if args.edge:
+    if args.edge is not None:  # --edge 0 is an error (set_resolution names it), not "keep"
         for i in range(len(garment.pieces)):
             garment.set_resolution(i, args.edge)
     extras, params = garment_extras.read_extras(args.garment)
     settings = tailor.Settings(substeps=args.substeps, iterations=args.iterations, gravity=gravity)
-    sim, offsets = garment.build_simulation(on_character.base_fabric(extras), settings)
+    try:
+        fabric = on_character.base_fabric(extras)
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        raise tailor.InvalidParameterError(f"{args.garment}: garment file settings: {exc!r}") from None
+    sim, offsets = garment.build_simulation(fabric, settings)
     sim.set_backend(args.backend)
     motion = ColliderMotion(args.collider, args.collider_anim, args.fps)
     cid = sim.add_mesh_collider(motion.at(0), motion.triangles)
-    setup, pins, setup_warnings = on_character.file_setup(
-        sim, garment, offsets, extras, params, cid, len(motion.rest), args.thickness, args.self_collision)
+    try:
+        setup, pins, setup_warnings = on_character.file_setup(
+            sim, garment, offsets, extras, params, cid, len(motion.rest), args.thickness, args.self_collision)
+    except tailor.TailorError:
+        raise
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError) as exc:
+        # The extras are free-form JSON written by the add-on; a hand-edited or damaged one
+        # is the file's fault, named as such.
+        raise tailor.InvalidParameterError(f"{args.garment}: garment file extras: {exc!r}") from None
     warnings += setup_warnings
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
           f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}, "

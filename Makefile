@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: drape-suite demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
+.PHONY: fuzz drape-suite demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -52,6 +52,14 @@ $(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
 ## (docs/benchmarks.md, "Drape suite"). DRAPE_ARGS, e.g. --seed 18 --count 30.
 drape-suite: develop
 	$(PY) bench/drape_suite/run.py $(DRAPE_ARGS)
+
+## The mutation fuzzer over every reader and the API (tests/fuzz/fuzz.py; docs/hardening.md), longer
+## than the seeded run in `make test`: FUZZ_SEED, FUZZ_CASES. Failing cases are kept in
+## tests/fuzz/crashes/, which `make test` replays.
+FUZZ_SEED  ?= 1
+FUZZ_CASES ?= 50000
+fuzz: develop
+	$(PY) tests/fuzz/fuzz.py --seed $(FUZZ_SEED) --cases $(FUZZ_CASES)
 
 ## Benchmarks (print figures; not part of the tests).
 bench: develop

@@ -415,6 +415,25 @@ def test_array_arguments_of_any_kind_give_tailor_errors():
         s.set_particle_levels("abc")
 
 
+def test_a_second_thread_gets_a_tailor_error_while_a_step_runs():
+    import threading
+
+    d = tailor.sewn_tube(edge=0.01)
+    sim = tailor.Simulation(d["positions"], d["triangles"], d["rest"])
+    worker = threading.Thread(target=lambda: sim.step(1 / 30, frames=40))
+    worker.start()
+    seen = None
+    while worker.is_alive() and seen is None:
+        try:
+            sim.positions  # was RuntimeError: Already borrowed
+        except tailor.SimulationError as exc:
+            seen = exc
+    worker.join()
+    assert seen is not None and "busy" in str(seen), "no call overlapped the step"
+    sim.step(1 / 30)  # usable again once the step has returned
+    assert np.isfinite(sim.positions).all()
+
+
 def test_playback_check_names_fps_and_frames():
     tailor.check_playback(30.0, 1)
     with pytest.raises(tailor.InvalidParameterError, match="fps"):

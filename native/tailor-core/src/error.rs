@@ -67,6 +67,11 @@ pub enum TailorError {
     #[error("cancelled")]
     Cancelled,
 
+    /// An object is in use by a call in another thread (a `Simulation` stepping with the GIL
+    /// released); the caller may retry once that call has returned.
+    #[error("busy: {what}")]
+    Busy { what: String },
+
     /// A bug in Tailor: a panic caught at the Python boundary (`tailor-py`'s `guard`) instead
     /// of crossing it. Never returned by the core itself; it lives here so that the one
     /// mapping to Python covers it too.

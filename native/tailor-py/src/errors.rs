@@ -9,7 +9,7 @@
 //! ├── SeamError(TailorError, ValueError)
 //! ├── PatternError(TailorError, ValueError)        a file could not be read or is unsupported
 //! ├── TailorIOError(TailorError, OSError)
-//! ├── SimulationError(TailorError, RuntimeError)   the solve diverged
+//! ├── SimulationError(TailorError, RuntimeError)   the solve diverged, or the simulation is busy in another thread
 //! ├── CancelledError(TailorError)
 //! └── InternalError(TailorError, RuntimeError)    a panic caught at the boundary (a bug)
 //! ```
@@ -67,7 +67,7 @@ sub_exception!(
     SimulationError,
     "SimulationError",
     PyRuntimeError,
-    "The simulation diverged (non-finite values); the state was not advanced."
+    "The simulation diverged (non-finite values; the state was not advanced), or it is in use by a call in another thread."
 );
 sub_exception!(CancelledError, "CancelledError", PyException, "The operation was cancelled.");
 sub_exception!(
@@ -109,7 +109,7 @@ pub fn to_py(err: CoreError) -> PyErr {
             CoreError::InvalidSeam { .. } => SeamError::type_object(py),
             CoreError::Parse { .. } | CoreError::Unsupported { .. } => PatternError::type_object(py),
             CoreError::Io { .. } => TailorIOError::type_object(py),
-            CoreError::Diverged { .. } => SimulationError::type_object(py),
+            CoreError::Diverged { .. } | CoreError::Busy { .. } => SimulationError::type_object(py),
             CoreError::Cancelled => CancelledError::type_object(py),
             CoreError::Internal { .. } => InternalError::type_object(py),
         };

@@ -18,7 +18,38 @@ use crate::settings::{parse_method, Fabric, Settings};
 /// all in metres.
 #[pyclass(module = "tailor")]
 pub struct Simulation {
-    inner: core::Solver,
+    /// `None` while a call that releases the GIL (`step`, `measure_step`, `metrics`,
+    /// `attach_to_collider`) has it: another thread's call then gets a `SimulationError`
+    /// saying so, where it got pyo3's `RuntimeError: Already borrowed` (see [`Self::detached`]).
+    inner: Option<core::Solver>,
+}
+
+fn busy() -> PyErr {
+    to_py(tailor_core::TailorError::Busy {
+        what: "this Simulation is in use by a call in another thread (step, measure_step, metrics or \
+               attach_to_collider); wait for it to return"
+            .into(),
+    })
+}
+
+impl Simulation {
+    fn solver(&self) -> PyResult<&core::Solver> {
+        self.inner.as_ref().ok_or_else(busy)
+    }
+
+    fn solver_mut(&mut self) -> PyResult<&mut core::Solver> {
+        self.inner.as_mut().ok_or_else(busy)
+    }
+
+    /// Runs `f` on the solver with the GIL released and no borrow of `slf` held, so that other
+    /// threads may call in meanwhile (and are told the simulation is busy, by a TailorError).
+    /// A panic in `f` loses the solver: later calls say busy (the panic was an InternalError).
+    fn detached<T: Send>(slf: &Bound<'_, Self>, f: impl FnOnce(&mut core::Solver) -> T + Send) -> PyResult<T> {
+        let mut solver = slf.try_borrow_mut().map_err(|_| busy())?.inner.take().ok_or_else(busy)?;
+        let out = slf.py().detach(|| f(&mut solver));
+        slf.try_borrow_mut().map_err(|_| busy())?.inner = Some(solver);
+        Ok(out)
+    }
 }
 
 fn parse_backend(name: &str) -> PyResult<core::Backend> {
@@ -96,7 +127,7 @@ impl Simulation {
                 None => core::SolverSettings::default(),
             };
             let sim = core::Simulation::new(mesh, fabric, settings).map_err(to_py)?;
-            Ok(Self { inner: core::Solver::new(sim, backend) })
+            Ok(Self { inner: Some(core::Solver::new(sim, backend)) })
         })
     }
 
@@ -106,7 +137,7 @@ impl Simulation {
     fn set_backend(&mut self, backend: &str) -> PyResult<()> {
         crate::errors::guard(|| {
             let backend = parse_backend(backend)?;
-            self.inner.set_backend(core::SolverOptions { backend, ..Default::default() });
+            self.solver_mut()?.set_backend(core::SolverOptions { backend, ..Default::default() });
             Ok(())
         })
     }
@@ -114,82 +145,82 @@ impl Simulation {
     /// The backend the next step will use: "cpu" or "gpu".
     #[getter]
     fn backend(&self) -> PyResult<&'static str> {
-        crate::errors::guard(|| Ok(backend_name(self.inner.active_backend())))
+        crate::errors::guard(|| Ok(backend_name(self.solver()?.active_backend())))
     }
 
     /// The GPU adapter in use (name, API, type, driver), or None on the CPU.
     #[getter]
     fn adapter(&self) -> PyResult<Option<String>> {
-        crate::errors::guard(|| Ok(self.inner.adapter()))
+        crate::errors::guard(|| Ok(self.solver()?.adapter()))
     }
 
     /// Why the GPU asked for is not in use, or None.
     #[getter]
     fn backend_warning(&self) -> PyResult<Option<String>> {
-        crate::errors::guard(|| Ok(self.inner.warning().map(str::to_owned)))
+        crate::errors::guard(|| Ok(self.solver()?.warning().map(str::to_owned)))
     }
 
     #[getter]
     fn num_particles(&self) -> PyResult<usize> {
-        crate::errors::guard(|| Ok(self.inner.simulation().num_particles()))
+        crate::errors::guard(|| Ok(self.solver()?.simulation().num_particles()))
     }
 
     #[getter]
     fn num_triangles(&self) -> PyResult<usize> {
-        crate::errors::guard(|| Ok(self.inner.simulation().model().mesh.num_triangles()))
+        crate::errors::guard(|| Ok(self.solver()?.simulation().model().mesh.num_triangles()))
     }
 
     /// Positions, a new (n, 3) float32 array.
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::errors::guard(|| soa_to_numpy(py, self.inner.positions()))
+        crate::errors::guard(|| soa_to_numpy(py, self.solver()?.positions()))
     }
 
     #[setter(positions)]
     fn set_positions(&mut self, p: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
             let positions = points3(p, "positions")?;
-            self.inner.edit(|sim| sim.set_positions(&positions)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_positions(&positions)).map_err(to_py)
         })
     }
 
     /// Velocities (brought back from the GPU when it runs the simulation).
     #[getter]
     fn velocities<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::errors::guard(|| soa_to_numpy(py, self.inner.velocities()))
+        crate::errors::guard(|| soa_to_numpy(py, self.solver_mut()?.velocities()))
     }
 
     #[setter(velocities)]
     fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
             let velocities = points3(v, "velocities")?;
-            self.inner.edit(|sim| sim.set_velocities(&velocities)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_velocities(&velocities)).map_err(to_py)
         })
     }
 
     /// Triangles, a new (m, 3) uint32 array (what other solvers need to run the same cloth).
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::errors::guard(|| crate::patterns::rows(py, self.inner.simulation().model().mesh.triangles()))
+        crate::errors::guard(|| crate::patterns::rows(py, self.solver()?.simulation().model().mesh.triangles()))
     }
 
     /// The flat 2D rest shape, a new (n, 2) float32 array, metres.
     #[getter]
     fn rest<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::errors::guard(|| crate::patterns::rows(py, self.inner.simulation().model().mesh.rest()))
+        crate::errors::guard(|| crate::patterns::rows(py, self.solver()?.simulation().model().mesh.rest()))
     }
 
     /// Unique mesh edges, a new (k, 2) uint32 array (the edges the strain metric measures).
     #[getter]
     fn edges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::errors::guard(|| crate::patterns::rows(py, &self.inner.simulation().model().mesh.topology().edges))
+        crate::errors::guard(|| crate::patterns::rows(py, &self.solver()?.simulation().model().mesh.topology().edges))
     }
 
     /// The seams as added: one dict per seam with its name, stiffness, bend_stiffness and the
     /// sewn pairs as (k, 2) vertex and weight arrays per side (a vertex has weights (1, 0)).
     fn seam_pairs<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         crate::errors::guard(|| {
-            self.inner
+            self.solver()?
                 .simulation()
                 .model()
                 .seams
@@ -215,39 +246,39 @@ impl Simulation {
     /// Particle masses, kg (density × a third of adjacent rest areas × mass scale).
     #[getter]
     fn masses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::errors::guard(|| Ok(vec_to_numpy(py, self.inner.simulation().masses().to_vec())))
+        crate::errors::guard(|| Ok(vec_to_numpy(py, self.solver()?.simulation().masses().to_vec())))
     }
 
     #[getter]
     fn settings(&self) -> PyResult<Settings> {
-        crate::errors::guard(|| Ok(Settings::from(self.inner.simulation().settings())))
+        crate::errors::guard(|| Ok(Settings::from(self.solver()?.simulation().settings())))
     }
 
     #[setter(settings)]
     fn set_settings(&mut self, s: Settings) -> PyResult<()> {
         crate::errors::guard(|| {
             let settings = s.to_core()?;
-            self.inner.edit(|sim| sim.set_settings(settings)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_settings(settings)).map_err(to_py)
         })
     }
 
     /// Collision thickness, metres.
     #[setter(thickness)]
     fn set_thickness(&mut self, t: f32) -> PyResult<()> {
-        crate::errors::guard(|| self.inner.edit(|sim| sim.set_thickness(t)).map_err(to_py))
+        crate::errors::guard(|| self.solver_mut()?.edit(|sim| sim.set_thickness(t)).map_err(to_py))
     }
 
     fn set_mass_scale(&mut self, scale: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
             let scale = floats(scale, "mass scale")?;
-            self.inner.edit(|sim| sim.set_mass_scale(&scale)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_mass_scale(&scale)).map_err(to_py)
         })
     }
 
     fn set_triangle_stiffness(&mut self, stretch: &Bound<'_, PyAny>, shear: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
             let (stretch, shear) = (floats(stretch, "stretch")?, floats(shear, "shear")?);
-            self.inner.edit(|sim| sim.set_triangle_stiffness(&stretch, &shear)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_triangle_stiffness(&stretch, &shear)).map_err(to_py)
         })
     }
 
@@ -255,7 +286,7 @@ impl Simulation {
     fn set_triangle_bending(&mut self, bend: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
             let bend = floats(bend, "bend")?;
-            self.inner.edit(|sim| sim.set_triangle_bending(&bend)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_triangle_bending(&bend)).map_err(to_py)
         })
     }
 
@@ -264,7 +295,7 @@ impl Simulation {
     fn set_bending_rest_pose(&mut self, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         crate::errors::guard(|| {
             let p = pose.map(|p| points3(p, "pose")).transpose()?;
-            self.inner.edit(|sim| sim.set_bending_rest_pose(p.as_deref())).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_bending_rest_pose(p.as_deref())).map_err(to_py)
         })
     }
 
@@ -280,10 +311,10 @@ impl Simulation {
         name: &str,
     ) -> PyResult<usize> {
         crate::errors::guard(|| {
-            let n = self.inner.simulation().num_particles();
+            let n = self.solver_mut()?.simulation().num_particles();
             let (a, b) = (indices(a, "seam side A", n)?, indices(b, "seam side B", n)?);
             let seam = Seam::one_to_one(name, &a, &b, stiffness, bend_stiffness).map_err(to_py)?;
-            self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.add_seam(seam)).map_err(to_py)
         })
     }
 
@@ -303,7 +334,7 @@ impl Simulation {
         name: &str,
     ) -> PyResult<usize> {
         crate::errors::guard(|| {
-            let n = self.inner.simulation().num_particles();
+            let n = self.solver_mut()?.simulation().num_particles();
             let side = |v: &Bound<'_, PyAny>, w: &Bound<'_, PyAny>, label: &str| -> PyResult<Vec<SeamPoint>> {
                 let verts = indices(&crate::convert::flattened(v, label)?, label, n)?;
                 let weights = floats(&crate::convert::flattened(w, label)?, label)?;
@@ -331,7 +362,7 @@ impl Simulation {
                 }));
             }
             let seam = Seam { name: name.into(), pairs: a.into_iter().zip(b).collect(), stiffness, bend_stiffness };
-            self.inner.edit(|sim| sim.add_seam(seam)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.add_seam(seam)).map_err(to_py)
         })
     }
 
@@ -339,16 +370,16 @@ impl Simulation {
     #[pyo3(signature = (particles, targets=None))]
     fn pin(&mut self, particles: &Bound<'_, PyAny>, targets: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         crate::errors::guard(|| {
-            let p = indices(particles, "pin", self.inner.simulation().num_particles())?;
+            let p = indices(particles, "pin", self.solver_mut()?.simulation().num_particles())?;
             let t = targets.map(|t| points3(t, "pin targets")).transpose()?;
-            self.inner.edit(|sim| sim.pin(&p, t.as_deref())).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.pin(&p, t.as_deref())).map_err(to_py)
         })
     }
 
     fn unpin(&mut self, particles: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
-            let p = indices(particles, "unpin", self.inner.simulation().num_particles())?;
-            self.inner.edit(|sim| sim.unpin(&p)).map_err(to_py)
+            let p = indices(particles, "unpin", self.solver_mut()?.simulation().num_particles())?;
+            self.solver_mut()?.edit(|sim| sim.unpin(&p)).map_err(to_py)
         })
     }
 
@@ -360,7 +391,7 @@ impl Simulation {
         weight: f32,
     ) -> PyResult<()> {
         crate::errors::guard(|| {
-            let p = indices(particles, "attachments", self.inner.simulation().num_particles())?;
+            let p = indices(particles, "attachments", self.solver_mut()?.simulation().num_particles())?;
             let t = points3(targets, "attachment targets")?;
             if t.len() != p.len() {
                 return Err(to_py(tailor_core::TailorError::shape(
@@ -369,7 +400,9 @@ impl Simulation {
                 )));
             }
             for (&particle, &target) in p.iter().zip(&t) {
-                self.inner.edit(|sim| sim.add_attachment(Attachment { particle, target, weight })).map_err(to_py)?;
+                self.solver_mut()?
+                    .edit(|sim| sim.add_attachment(Attachment { particle, target, weight }))
+                    .map_err(to_py)?;
             }
             Ok(())
         })
@@ -378,7 +411,7 @@ impl Simulation {
     fn set_attachment_targets(&mut self, targets: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
             let targets = points3(targets, "attachment targets")?;
-            self.inner.edit(|sim| sim.set_attachment_targets(&targets)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_attachment_targets(&targets)).map_err(to_py)
         })
     }
 
@@ -419,40 +452,40 @@ impl Simulation {
     /// Advances `frames` frames of `dt` seconds each (the GIL is released while solving).
     /// Returns the statistics of the last frame.
     #[pyo3(signature = (dt, frames=1))]
-    fn step<'py>(&mut self, py: Python<'py>, dt: f32, frames: u32) -> PyResult<Bound<'py, PyDict>> {
+    fn step<'py>(slf: &Bound<'py, Self>, py: Python<'py>, dt: f32, frames: u32) -> PyResult<Bound<'py, PyDict>> {
         crate::errors::guard(|| {
-            let inner = &mut self.inner;
-            let stats = py.detach(|| {
+            let stats = Self::detached(slf, |inner| {
                 let mut last = StepStats::default();
                 for _ in 0..frames.max(1) {
                     last = inner.step(dt)?;
                 }
                 Ok::<_, tailor_core::TailorError>(last)
-            });
+            })?;
             let stats = stats.map_err(to_py)?;
-            let adapter = if stats.backend == core::ActiveBackend::Gpu { self.inner.adapter() } else { None };
+            let adapter =
+                if stats.backend == core::ActiveBackend::Gpu { slf.borrow().solver()?.adapter() } else { None };
             stats_dict(py, &stats, adapter)
         })
     }
 
     /// (largest sewn-pair gap in metres, fraction of pairs under the ramp threshold).
     fn seam_gaps(&self) -> PyResult<(f32, f32)> {
-        crate::errors::guard(|| Ok(self.inner.simulation().seam_gaps()))
+        crate::errors::guard(|| Ok(self.solver()?.simulation().seam_gaps()))
     }
 
     fn colour_count(&mut self) -> PyResult<usize> {
-        crate::errors::guard(|| Ok(self.inner.edit(|sim| sim.colour_count())))
+        crate::errors::guard(|| Ok(self.solver_mut()?.edit(|sim| sim.colour_count())))
     }
 
     fn state_hash(&self) -> PyResult<u64> {
-        crate::errors::guard(|| Ok(self.inner.simulation().state_hash()))
+        crate::errors::guard(|| Ok(self.solver()?.simulation().state_hash()))
     }
 
     /// Measures `iterations` iterations of `method` on the next substep against the reference
     /// solution; the simulation is unchanged. Returns per-iteration arrays.
     #[pyo3(signature = (dt, method="chebyshev", iterations=100, reference_iterations=5000, reference_tolerance=1e-7))]
     fn measure_step<'py>(
-        &mut self,
+        slf: &Bound<'py, Self>,
         py: Python<'py>,
         dt: f32,
         method: &str,
@@ -463,8 +496,8 @@ impl Simulation {
         crate::errors::guard(|| {
             let method = parse_method(method)?;
             let opts = ReferenceOptions { max_iterations: reference_iterations, tolerance_m: reference_tolerance };
-            let inner = &mut self.inner;
-            let m = py.detach(|| inner.edit(|s| s.measure_step(dt, method, iterations, opts))).map_err(to_py)?;
+            let m = Self::detached(slf, |inner| inner.edit(|s| s.measure_step(dt, method, iterations, opts)))?
+                .map_err(to_py)?;
             let d = PyDict::new(py);
             let r = PyDict::new(py);
             r.set_item("iterations", m.reference.iterations)?;
@@ -508,44 +541,46 @@ impl Simulation {
                 rule: colliders::insertion_rule(insertion)?,
             };
             let (v, t) = (points3(vertices, "collider vertices")?, triangles(triangles_, "collider triangles")?);
-            Ok(self.inner.edit(|sim| sim.add_mesh_collider(&v, &t, opts)).map_err(to_py)?.0)
+            Ok(self.solver_mut()?.edit(|sim| sim.add_mesh_collider(&v, &t, opts)).map_err(to_py)?.0)
         })
     }
 
     #[getter]
     fn num_mesh_colliders(&self) -> PyResult<usize> {
-        crate::errors::guard(|| Ok(self.inner.simulation().num_mesh_colliders()))
+        crate::errors::guard(|| Ok(self.solver()?.simulation().num_mesh_colliders()))
     }
 
     /// The collider's vertex positions (n, 3) at the end of the next step.
     fn set_collider_positions(&mut self, collider: i64, positions: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
-            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-            self.inner.set_collider_positions(id, &points3(positions, "collider positions")?).map_err(to_py)
+            let id = colliders::collider_id(collider, self.solver_mut()?.simulation().num_mesh_colliders())?;
+            self.solver_mut()?.set_collider_positions(id, &points3(positions, "collider positions")?).map_err(to_py)
         })
     }
 
     /// The collider's positions at the last substep run.
     fn collider_positions<'py>(&self, py: Python<'py>, collider: i64) -> PyResult<Bound<'py, PyAny>> {
         crate::errors::guard(|| {
-            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-            colliders::rows_to_numpy(py, self.inner.simulation().collider_positions(id).map_err(to_py)?)
+            let id = colliders::collider_id(collider, self.solver()?.simulation().num_mesh_colliders())?;
+            colliders::rows_to_numpy(py, self.solver()?.simulation().collider_positions(id).map_err(to_py)?)
         })
     }
 
     /// Collision levels of a collider, one per vertex or one per triangle.
     fn set_collider_levels(&mut self, collider: i64, levels: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
-            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
+            let id = colliders::collider_id(collider, self.solver_mut()?.simulation().num_mesh_colliders())?;
             let levels = colliders::levels(levels, "collider levels")?;
-            self.inner.edit(|sim| sim.set_collider_levels(id, &levels)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_collider_levels(id, &levels)).map_err(to_py)
         })
     }
 
     fn set_collider_friction(&mut self, collider: i64, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
         crate::errors::guard(|| {
-            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-            self.inner.edit(|sim| sim.set_collider_friction(id, static_friction, kinetic_friction)).map_err(to_py)
+            let id = colliders::collider_id(collider, self.solver_mut()?.simulation().num_mesh_colliders())?;
+            self.solver_mut()?
+                .edit(|sim| sim.set_collider_friction(id, static_friction, kinetic_friction))
+                .map_err(to_py)
         })
     }
 
@@ -557,17 +592,19 @@ impl Simulation {
     /// Raises InvalidMeshError for an unknown collider or a particle out of range,
     /// InvalidParameterError for a stiffness not positive and finite; nothing changes then.
     fn attach_to_collider(
-        &mut self,
-        py: Python<'_>,
+        slf: &Bound<'_, Self>,
         particles: &Bound<'_, PyAny>,
         collider: i64,
         stiffness: f32,
     ) -> PyResult<()> {
         crate::errors::guard(|| {
-            let id = colliders::collider_id(collider, self.inner.simulation().num_mesh_colliders())?;
-            let p = indices(particles, "attach_to_collider particles", self.inner.simulation().num_particles())?;
-            let inner = &mut self.inner;
-            py.detach(|| inner.edit(|sim| sim.attach_to_collider(&p, id, stiffness))).map_err(to_py)
+            let (meshes, n) = {
+                let me = slf.borrow();
+                (me.solver()?.simulation().num_mesh_colliders(), me.solver()?.simulation().num_particles())
+            };
+            let id = colliders::collider_id(collider, meshes)?;
+            let p = indices(particles, "attach_to_collider particles", n)?;
+            Self::detached(slf, |inner| inner.edit(|sim| sim.attach_to_collider(&p, id, stiffness)))?.map_err(to_py)
         })
     }
 
@@ -576,9 +613,9 @@ impl Simulation {
     #[pyo3(signature = (particles=None))]
     fn detach_from_collider(&mut self, particles: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         crate::errors::guard(|| {
-            let n = self.inner.simulation().num_particles();
+            let n = self.solver_mut()?.simulation().num_particles();
             let p = particles.map(|p| indices(p, "detach_from_collider particles", n)).transpose()?;
-            self.inner.edit(|sim| sim.detach_from_collider(p.as_deref())).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.detach_from_collider(p.as_deref())).map_err(to_py)
         })
     }
 
@@ -588,7 +625,8 @@ impl Simulation {
     fn collider_attached<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::errors::guard(|| {
             Ok({
-                let p: Vec<u32> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.particle).collect();
+                let p: Vec<u32> =
+                    self.solver()?.simulation().asked_attachments().into_iter().map(|a| a.particle).collect();
                 PyArray1::from_vec(py, p).into_any()
             })
         })
@@ -598,7 +636,9 @@ impl Simulation {
     /// new uint32 array; empty once the ramp has released.
     #[getter]
     fn closing_holds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::errors::guard(|| Ok(PyArray1::from_vec(py, self.inner.simulation().closing_holds().to_vec()).into_any()))
+        crate::errors::guard(|| {
+            Ok(PyArray1::from_vec(py, self.solver()?.simulation().closing_holds().to_vec()).into_any())
+        })
     }
 
     /// The targets of the collider attachments at the last substep run, a new (k, 3) float32
@@ -606,7 +646,8 @@ impl Simulation {
     #[getter]
     fn collider_attachment_targets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::errors::guard(|| {
-            let t: Vec<[f32; 3]> = self.inner.simulation().asked_attachments().into_iter().map(|a| a.target).collect();
+            let t: Vec<[f32; 3]> =
+                self.solver()?.simulation().asked_attachments().into_iter().map(|a| a.target).collect();
             colliders::rows_to_numpy(py, &t)
         })
     }
@@ -616,14 +657,14 @@ impl Simulation {
     fn set_particle_levels(&mut self, levels: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {
             let levels = colliders::levels(levels, "particle levels")?;
-            self.inner.edit(|sim| sim.set_particle_levels(&levels)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_particle_levels(&levels)).map_err(to_py)
         })
     }
 
     #[getter]
     fn particle_levels<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::errors::guard(|| {
-            Ok(PyArray1::from_vec(py, self.inner.simulation().particle_levels().to_vec()).into_any())
+            Ok(PyArray1::from_vec(py, self.solver()?.simulation().particle_levels().to_vec()).into_any())
         })
     }
 
@@ -638,9 +679,9 @@ impl Simulation {
         crate::errors::guard(|| match (static_friction, kinetic_friction) {
             (Some(s), Some(k)) => {
                 let (s, k) = (floats(s, "static_friction")?, floats(k, "kinetic_friction")?);
-                self.inner.edit(|sim| sim.set_particle_friction(Some((&s, &k)))).map_err(to_py)
+                self.solver_mut()?.edit(|sim| sim.set_particle_friction(Some((&s, &k)))).map_err(to_py)
             }
-            (None, None) => self.inner.edit(|sim| sim.set_particle_friction(None)).map_err(to_py),
+            (None, None) => self.solver_mut()?.edit(|sim| sim.set_particle_friction(None)).map_err(to_py),
             _ => Err(to_py(tailor_core::TailorError::shape(
                 "particle friction",
                 "give both static and kinetic coefficients, or neither",
@@ -659,7 +700,7 @@ impl Simulation {
     ) -> PyResult<()> {
         crate::errors::guard(|| {
             let s = core::SelfCollisionSettings { enabled, radius, static_friction, kinetic_friction };
-            self.inner.edit(|sim| sim.set_self_collision(s)).map_err(to_py)
+            self.solver_mut()?.edit(|sim| sim.set_self_collision(s)).map_err(to_py)
         })
     }
 
@@ -669,8 +710,8 @@ impl Simulation {
         crate::errors::guard(|| {
             colliders::self_collision_dict(
                 py,
-                &self.inner.simulation().self_collision(),
-                self.inner.simulation().self_collision_radius(),
+                &self.solver()?.simulation().self_collision(),
+                self.solver()?.simulation().self_collision_radius(),
             )
         })
     }
@@ -678,13 +719,11 @@ impl Simulation {
     /// Quality of the current state: penetration into mesh collider `collider` (if given),
     /// self-intersections, seam gap, edge strain, kinetic energy.
     #[pyo3(signature = (collider=None))]
-    fn metrics<'py>(&mut self, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
+    fn metrics<'py>(slf: &Bound<'py, Self>, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
         crate::errors::guard(|| {
-            let id = collider
-                .map(|c| colliders::collider_id(c, self.inner.simulation().num_mesh_colliders()))
-                .transpose()?;
-            let inner = &mut self.inner;
-            let m = py.detach(|| inner.metrics(id)).map_err(to_py)?;
+            let meshes = slf.borrow().solver()?.simulation().num_mesh_colliders();
+            let id = collider.map(|c| colliders::collider_id(c, meshes)).transpose()?;
+            let m = Self::detached(slf, |inner| inner.metrics(id))?.map_err(to_py)?;
             colliders::metrics_dict(py, &m)
         })
     }
@@ -694,9 +733,9 @@ impl Simulation {
             Ok({
                 format!(
                     "Simulation({} particles, {} triangles, backend {})",
-                    self.inner.simulation().num_particles(),
-                    self.inner.simulation().model().mesh.num_triangles(),
-                    backend_name(self.inner.active_backend())
+                    self.solver()?.simulation().num_particles(),
+                    self.solver()?.simulation().model().mesh.num_triangles(),
+                    backend_name(self.solver()?.active_backend())
                 )
             })
         })
@@ -705,7 +744,7 @@ impl Simulation {
 
 impl Simulation {
     fn add_collider(&mut self, shape: Shape, static_friction: f32, kinetic_friction: f32) -> PyResult<()> {
-        self.inner
+        self.solver_mut()?
             .edit(|sim| sim.add_collider(ImplicitCollider { shape, static_friction, kinetic_friction }))
             .map_err(to_py)
     }

@@ -5,9 +5,10 @@ use crate::error::{Result, TailorError};
 use crate::pattern::{Piece, Point2};
 
 /// Above this many estimated vertices a resolution is refused rather than exhausting memory or
-/// time: a million vertices in one piece is far beyond what the solver runs interactively, and
-/// meshes in a few seconds (4 million, the budget before, took 20 s and more).
-pub(crate) const MAX_VERTICES: f64 = 1.0e6;
+/// time: half a million vertices in one piece (a 1.7 m² piece at 2 mm) is far beyond what the
+/// solver runs interactively, and meshes in seconds; 4 million, the budget before, took 20 s
+/// and more, and a garment with a piece of a million took 13 s to import.
+pub(crate) const MAX_VERTICES: f64 = 5.0e5;
 
 /// Checks counts, finiteness, orientation, holes inside the outline, and the vertex budget.
 pub(crate) fn validate_piece(piece: &Piece, h: f64) -> Result<()> {

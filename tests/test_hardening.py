@@ -401,6 +401,11 @@ def test_settings_errors_name_the_setting():
         tailor.Settings(substeps=-1)
     with pytest.raises(tailor.InvalidParameterError, match="iterations"):
         tailor.Settings(iterations="many")
+    # Every field is named in its own error (settings.rs keeps their names in a list).
+    fields = [n for n in dir(tailor.Settings()) if not n.startswith("_") and n not in ("preset", "presets")]
+    for name in fields:
+        with pytest.raises(tailor.InvalidParameterError, match=f"invalid setting {name} ="):
+            tailor.Settings(**{name: object()})
 
 
 def test_array_arguments_of_any_kind_give_tailor_errors():

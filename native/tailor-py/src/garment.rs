@@ -138,9 +138,9 @@ impl Garment {
     /// arrays, one value per vertex of that piece's mesh, as the sidecar holds them.
     #[getter]
     fn particle_params<'py>(&self, py: Python<'py>) -> PyResult<Vec<(String, usize, Bound<'py, PyAny>)>> {
-        use garment_file::ParticleValues as V;
-        use numpy::PyArray1;
         crate::errors::guard(|| {
+            use garment_file::ParticleValues as V;
+            use numpy::PyArray1;
             Ok(self
                 .inner
                 .particle_params

@@ -106,6 +106,8 @@ const SETTINGS_FIELDS: &[&str] = &[
     "ramp_release_time",
     "ramp_closing_speed",
     "ramp_closing_gravity",
+    "ramp_closing_hold",
+    "ramp_closing_hold_distance",
     "chebyshev_rho",
     "colouring_seed",
 ];

@@ -1,6 +1,6 @@
-"""The fuzz harness (tests/fuzz/fuzz.py): a short seeded run finds no crash, hang (over 10 s a
-case), panic or exception other than TailorError; every case it ever kept replays cleanly; and
-the harness itself notices a worker that dies, hangs or raises. `make fuzz` runs it longer."""
+"""The fuzz harness (tests/fuzz/fuzz.py): a short seeded run finds no crash, hang (over 10 s of
+CPU time a case, or 60 s without progress), panic or exception other than TailorError; every case it ever kept replays cleanly; and
+the harness itself notices a worker that dies, spins, blocks or raises. `make fuzz` runs it longer."""
 
 import json
 import os
@@ -39,8 +39,8 @@ def test_every_kept_case_replays_without_crash_hang_or_foreign_exception(case):
 
 def test_the_harness_catches_a_crash_a_hang_and_a_foreign_exception(tmp_path, monkeypatch):
     monkeypatch.setenv("TAILOR_FUZZ_SELFTEST", "0")
-    result = fuzz.fuzz(1, 9, hang_s=2.0, out_dir=tmp_path, log=lambda *_: None)
+    result = fuzz.fuzz(1, 9, hang_s=2.0, out_dir=tmp_path, log=lambda *_: None, blocked_s=4.0)
     kinds = {f["case"]: f["kind"] for f in result["failures"]}
-    assert kinds == {3: f"crash{-6}", 5: "hang", 7: "exception"}, result["failures"]
-    assert len([p for p in tmp_path.iterdir() if (p / "case.json").is_file()]) == 3
+    assert kinds == {3: f"crash{-6}", 5: "hang", 6: "hang", 7: "exception"}, result["failures"]
+    assert len([p for p in tmp_path.iterdir() if (p / "case.json").is_file()]) == 4
     assert os.environ["TAILOR_FUZZ_SELFTEST"] == "0"

@@ -35,8 +35,11 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 CRASHES = Path(__file__).resolve().parent / "crashes"
-#: A case that runs longer than this is a hang (seconds).
+#: A case that uses more CPU time than this is a hang (seconds). CPU time, not wall time, so
+#: that a loaded machine (another build, another engineer's tests) does not make hangs of
+#: slow cases; a case blocked without using the CPU (a FIFO) is caught by BLOCKED_S of wall time.
 HANG_S = 10.0
+BLOCKED_S = 60.0
 #: The worker's address-space cap: an input that asks for more is an allocation failure, which
 #: Rust turns into an abort, which the parent records as a crash (and the machine survives).
 MEMORY_CAP = 6 << 30
@@ -259,7 +262,10 @@ def run_target(target: str, folder: Path, names: list[str]) -> None:
         if index == 3:
             os.abort()
         if index == 5:
-            time.sleep(1e6)
+            while True:  # spins: a hang by CPU time
+                pass
+        if index == 6:
+            time.sleep(1e6)  # blocks: a hang by wall time
         if index == 7:
             raise ValueError("self-test: not a TailorError")
     if target == "api":
@@ -363,7 +369,17 @@ def save_case(seed: int, index: int, kind: str, detail: str, seeds, out_dir: Pat
     return folder
 
 
-def fuzz(seed: int, cases: int, hang_s: float = HANG_S, out_dir: Path = CRASHES, log=print) -> dict:
+def cpu_seconds(pid: int) -> float:
+    """User and system CPU time of process `pid` so far (Linux /proc; 0 elsewhere)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, IndexError, ValueError):
+        return 0.0
+
+
+def fuzz(seed: int, cases: int, hang_s: float = HANG_S, out_dir: Path = CRASHES, log=print,
+         blocked_s: float = BLOCKED_S) -> dict:
     """Runs `cases` cases of run `seed` in workers; returns counts and the failures found."""
     seeds = corpus()
     failures = []
@@ -380,14 +396,16 @@ def fuzz(seed: int, cases: int, hang_s: float = HANG_S, out_dir: Path = CRASHES,
                 proc = subprocess.Popen([sys.executable, __file__, "--worker", "--seed", str(seed), "--start", str(k),
                                          "--stop", str(cases), "--progress", str(progress)],
                                         stdout=out_fh, stderr=err_fh, text=True)
-            last, since = None, time.perf_counter()
+            last, since, cpu_since = None, time.perf_counter(), 0.0
             hung = False
             while proc.poll() is None:
                 time.sleep(0.05)
                 now = progress.read_text().strip()
+                cpu = cpu_seconds(proc.pid)
                 if now != last:
-                    last, since = now, time.perf_counter()
-                elif now and now != "done" and time.perf_counter() - since > hang_s:
+                    last, since, cpu_since = now, time.perf_counter(), cpu
+                elif now and now != "done" and (cpu - cpu_since > hang_s
+                                                or time.perf_counter() - since > blocked_s):
                     proc.kill()
                     hung = True
                     break
@@ -408,7 +426,7 @@ def fuzz(seed: int, cases: int, hang_s: float = HANG_S, out_dir: Path = CRASHES,
             # The worker died or hung in case `done`: keep it and go on after it.
             bad = int(done) if done.isdigit() else k
             kind = "hang" if hung else f"crash{proc.returncode}"
-            detail = f"over {hang_s:g} s" if hung else (err.strip().splitlines() or ["(no output)"])[-1][:500]
+            detail = f"over {hang_s:g} s of CPU time" if hung else (err.strip().splitlines() or ["(no output)"])[-1][:500]
             folder = save_case(seed, bad, kind, detail, seeds, out_dir)
             failures.append({"case": bad, "kind": kind, "detail": detail, "saved": str(folder)})
             log(f"case {bad}: {kind}: {detail} -> {folder}")

@@ -377,10 +377,13 @@ def test_a_bad_garment_file_extra_is_one_line(garment_file):
 
 def test_ctrl_c_is_one_line_and_exit_130(garment_file):
     g, body = garment_file
-    p = subprocess.Popen([sys.executable, "-m", "tailor", "simulate", str(g), "--collider", str(body), "--frames",
-                          "100000", "--report", str(g.parent / "r.json")], stdout=subprocess.PIPE,
+    # -u: the header line arrives as printed, so Ctrl-C comes once the run is under way, however
+    # slowly the machine imported the module.
+    p = subprocess.Popen([sys.executable, "-u", "-m", "tailor", "simulate", str(g), "--collider", str(body),
+                          "--frames", "100000", "--report", str(g.parent / "r.json")], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
-    time.sleep(4)
+    assert p.stdout.readline().startswith("simulate:")
+    time.sleep(0.5)
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=60)
     assert p.returncode == 130, (out, err)

@@ -137,6 +137,12 @@ fn encroached(
     None
 }
 
+/// The most faces that removals of free vertices may requeue in all: each removal renumbers
+/// handles and so requeues every face, and a fuzzed collar 264 m long spent 10 s of CPU on
+/// that. Ordinary pieces stay far below it (they remove a handful); past it, an encroached
+/// segment is split instead, as when `max_removals` runs out.
+const REQUEUE_WORK: usize = 5_000_000;
+
 /// Input vertices where two constraint segments meet below [`SHELL_BELOW_DEG`].
 fn sharp_vertices(cdt: &Cdt, n_in: usize) -> Vec<bool> {
     let mut sharp = vec![false; n_in];
@@ -175,6 +181,8 @@ pub(crate) fn refine(cdt: &mut Cdt, input: &RefineInput<'_>) -> bool {
     let mut sharp = sharp_vertices(cdt, input.n_in.min(cdt.num_vertices()));
     sharp.resize(cdt.num_vertices(), false);
     let (mut removals, max_removals) = (0usize, 100 + cdt.num_vertices() / 20);
+    // Faces requeued by removals so far (see REQUEUE_WORK).
+    let mut requeued = 0usize;
     // Indexed once: a plain even-odd test per candidate is quadratic on long pieces.
     let region = super::region::Region::new(input.outline, input.holes, h);
     let budget = cdt.num_vertices() + 2000;
@@ -252,11 +260,13 @@ pub(crate) fn refine(cdt: &mut Cdt, input: &RefineInput<'_>) -> bool {
                 if let Some(k) = (0..3).find(|&k| und[k] == e) {
                     let opp = verts[(k + 2) % 3];
                     let free = removals < max_removals
+                        && requeued + cdt.num_inner_faces() <= REQUEUE_WORK
                         && opp.index() >= input.n_constraint
                         && !cdt.vertex(opp).out_edges().any(|e| e.is_constraint_edge());
                     if free {
                         cdt.remove(opp);
                         removals += 1;
+                        requeued += cdt.num_inner_faces();
                         sharp.swap_remove(opp.index());
                         // Removal renumbers handles: visit every face again.
                         queue.clear();

@@ -12,12 +12,17 @@
 //! excused from (the sharpest input corner of that piece, see
 //! [`TriangulateOptions::min_angle_deg`]), and how many import warnings the file gave. A line
 //! starting `BELOW` is a triangle under the stated minimum that no input corner explains.
+//!
+//! With `--all-lines` every piece is meshed with all of its internal lines
+//! ([`triangulate_piece`] directly), without the import's dropping of lines that leave a sliver
+//! (`garment::from_pattern`): the mesher's own figures on the lines as drawn.
 
 use std::path::{Path, PathBuf};
 
 use tailor_core::garment::{garment_from_pattern, import_warnings};
 use tailor_core::pattern::{read_pattern, ReadOptions};
-use tailor_core::triangulate::TriangulateOptions;
+use tailor_core::garment_file::{Garment, GarmentPiece};
+use tailor_core::triangulate::{triangulate_piece, TriangulateOptions};
 
 fn collect(path: &Path, out: &mut Vec<PathBuf>) {
     if path.is_dir() {
@@ -40,9 +45,12 @@ fn collect(path: &Path, out: &mut Vec<PathBuf>) {
 fn main() {
     let mut edges = Vec::new();
     let mut files = Vec::new();
+    let mut all_lines = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
-        if a == "--edge" {
+        if a == "--all-lines" {
+            all_lines = true;
+        } else if a == "--edge" {
             edges.push(args.next().and_then(|v| v.parse::<f64>().ok()).expect("--edge takes a length in metres"));
         } else {
             collect(Path::new(&a), &mut files);
@@ -64,7 +72,8 @@ fn main() {
         for (k, &h) in edges.iter().enumerate() {
             let options = TriangulateOptions::new(h);
             let t = std::time::Instant::now();
-            let (garment, meshes) = match garment_from_pattern(&pattern, &options) {
+            let imported = if all_lines { with_all_lines(&pattern, &options) } else { garment_from_pattern(&pattern, &options) };
+            let (garment, meshes) = match imported {
                 Ok(g) => g,
                 Err(e) => {
                     println!("{} h={h}: FAILED: {e}", file.display());
@@ -121,4 +130,24 @@ fn main() {
         println!("h={h}: {} files, lowest min angle {:.2} deg in {}", files.len(), worst[k].0, worst[k].1);
     }
     println!("{below} piece meshes with an angle below the minimum that no input corner explains");
+}
+
+/// Every piece of `pattern` meshed with all its internal lines (`--all-lines`), as a garment
+/// without seams.
+fn with_all_lines(
+    pattern: &tailor_core::pattern::Pattern,
+    options: &TriangulateOptions,
+) -> tailor_core::error::Result<(Garment, Vec<tailor_core::triangulate::PieceMesh>)> {
+    let mut garment = Garment::default();
+    let mut meshes = Vec::new();
+    for p in &pattern.pieces {
+        meshes.push(triangulate_piece(p, options)?);
+        garment.pieces.push(GarmentPiece {
+            placement: p.placement.clone(),
+            source: p.clone(),
+            options: options.clone(),
+            bend: None,
+        });
+    }
+    Ok((garment, meshes))
 }

@@ -324,3 +324,34 @@ fn garmentcode_specs_keep_the_stated_minimum_angle() {
         }
     }
 }
+
+/// Issue 18: the legging waistband's DXF draws a box as four lines whose corners miss each
+/// other by 2.5-9 µm; mesher 2 joins such line ends (within `join_tolerance`), so no 0.01°
+/// sliver is left; mesher 1 meshes the lines as drawn (its meshes come back as saved).
+#[test]
+fn line_ends_a_few_micrometres_apart_are_joined_by_mesher_2() {
+    let mut p = notched_rectangle("box");
+    let g = 5e-6;
+    p.internal_lines = vec![
+        vec![[0.1, 0.1], [0.3 - g, 0.1]],
+        vec![[0.3, 0.1 + g], [0.3, 0.2]],
+        vec![[0.3 + g, 0.2 - g], [0.1, 0.2]],
+        vec![[0.1, 0.2 + g], [0.1 + g, 0.1 - g]],
+    ];
+    let m = mesh(&p, 0.02);
+    assert!(m.quality.refinement_complete);
+    assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+    let o = TriangulateOptions::new(0.02);
+    let bad = tailor_core::triangulate::unexcused_angles(&m, &p, &o);
+    assert!(bad.is_empty(), "angles below {}: {bad:?}", o.min_angle_deg);
+    assert!(m.quality.min_angle_deg >= o.min_angle_deg - 1e-3, "{}", m.quality.min_angle_deg);
+    // Every box corner is one vertex.
+    for c in [[0.1, 0.1], [0.3, 0.1], [0.3, 0.2], [0.1, 0.2]] {
+        let near = m.rest.iter().filter(|r| (r[0] as f64 - c[0]).hypot(r[1] as f64 - c[1]) < 1e-4).count();
+        assert_eq!(near, 1, "corner {c:?}");
+    }
+    let old = TriangulateOptions { mesher: 1, ..o };
+    let m1 = triangulate_piece(&p, &old).unwrap();
+    let near = m1.rest.iter().filter(|r| (r[0] as f64 - 0.3).hypot(r[1] as f64 - 0.1) < 1e-4).count();
+    assert_eq!(near, 2, "mesher 1 keeps the line ends as drawn");
+}

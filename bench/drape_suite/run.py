@@ -180,7 +180,7 @@ def main(argv=None) -> int:
     (out / "table.md").write_text("\n".join(lines) + "\n")
     walked = "" if walk_ok is None else f"; through the walk {walk_ok} ({100 * summary['walk_share']:.0f} %)"
     print(f"drape-suite: seed {args.seed}, {len(rows)} designs, {args.frames} frames at rest: {ok} succeed "
-          f"({100 * summary['share']:.0f} %){walked}; median {summary['median_seconds_per_design']} s per design; "
+          f"({100 * summary['share']:.0f} %){walked}; median {summary['median_seconds_per_design'] or 0:.1f} s per design; "
           f"{out / 'table.md'}, failures' pictures in {out / 'failures'}")
     return 0
 

@@ -20,8 +20,8 @@
 use std::path::{Path, PathBuf};
 
 use tailor_core::garment::{garment_from_pattern, import_warnings};
-use tailor_core::pattern::{read_pattern, ReadOptions};
 use tailor_core::garment_file::{Garment, GarmentPiece};
+use tailor_core::pattern::{read_pattern, ReadOptions};
 use tailor_core::triangulate::{triangulate_piece, TriangulateOptions};
 
 fn collect(path: &Path, out: &mut Vec<PathBuf>) {
@@ -72,7 +72,8 @@ fn main() {
         for (k, &h) in edges.iter().enumerate() {
             let options = TriangulateOptions::new(h);
             let t = std::time::Instant::now();
-            let imported = if all_lines { with_all_lines(&pattern, &options) } else { garment_from_pattern(&pattern, &options) };
+            let imported =
+                if all_lines { with_all_lines(&pattern, &options) } else { garment_from_pattern(&pattern, &options) };
             let (garment, meshes) = match imported {
                 Ok(g) => g,
                 Err(e) => {

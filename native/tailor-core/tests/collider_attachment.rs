@@ -223,7 +223,9 @@ fn the_body_holds_the_cloth_near_it_while_seams_close() {
     };
     let (near_held, far_held, _) = run(100.0);
     let (near_free, far_free, _) = run(0.0);
-    println!("held: near moved {near_held:.3} m, far {far_held:.3} m; not held: near {near_free:.3} m, far {far_free:.3} m");
+    println!(
+        "held: near moved {near_held:.3} m, far {far_held:.3} m; not held: near {near_free:.3} m, far {far_free:.3} m"
+    );
     assert!(near_held < 0.05, "held cloth moved {near_held} m");
     assert!(far_held > 0.3, "the far piece moved only {far_held} m");
     assert!(near_free > 0.15, "without the hold, near moved only {near_free} m (the test shows nothing)");

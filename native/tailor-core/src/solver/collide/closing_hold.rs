@@ -56,8 +56,10 @@ impl Simulation {
             // A collider that is not a valid closed mesh answers no distance query: it holds
             // nothing (contacts still work on it).
             let Ok(body) = ClosedMesh::new(&m.cur, &m.tris) else { continue };
-            let near: Vec<u32> =
-                (0..n as u32).into_par_iter().filter(|&i| !taken[i as usize] && body.is_within(x[i as usize], within)).collect();
+            let near: Vec<u32> = (0..n as u32)
+                .into_par_iter()
+                .filter(|&i| !taken[i as usize] && body.is_within(x[i as usize], within))
+                .collect();
             if near.is_empty() {
                 continue;
             }

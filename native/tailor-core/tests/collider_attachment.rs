@@ -230,3 +230,27 @@ fn the_body_holds_the_cloth_near_it_while_seams_close() {
     assert!(far_held > 0.3, "the far piece moved only {far_held} m");
     assert!(near_free > 0.15, "without the hold, near moved only {near_free} m (the test shows nothing)");
 }
+
+/// A mesh collider whose triangles all have zero area gives the closing hold nothing to ride
+/// on: the seams still close and the step is not an error.
+#[test]
+fn a_collider_of_zero_area_holds_nothing_and_the_step_goes_on() {
+    use tailor_core::solver::Seam;
+    let (p, r, t) = cloth_grid(0.2, 4, 0.0, 0.0, 0.0);
+    let mut pos = p.clone();
+    let n = p.len() as u32;
+    pos.extend(p.iter().map(|q| [q[0], q[1], q[2] + 0.05]));
+    let rest: Vec<[f32; 2]> = r.iter().chain(r.iter()).copied().collect();
+    let tris: Vec<[u32; 3]> = t.iter().copied().chain(t.iter().map(|x| x.map(|v| v + n))).collect();
+    let mut sim = sim_of(pos, rest, tris, SolverSettings { gravity: [0.0; 3], ..Default::default() });
+    let edge: Vec<u32> = (0..n).filter(|&i| p[i as usize][0] > 0.099).collect();
+    let other: Vec<u32> = edge.iter().map(|&i| i + n).collect();
+    sim.add_seam(Seam::one_to_one("edge", &edge, &other, 1e4, 1e-5).unwrap()).unwrap();
+    // Three collinear points: every triangle has zero area.
+    let (v, tr) = (vec![[0.0, 0.0, 0.01], [0.05, 0.0, 0.01], [0.1, 0.0, 0.01]], vec![[0u32, 1, 2]]);
+    sim.add_mesh_collider(&v, &tr, MeshColliderOptions::default()).unwrap();
+    for _ in 0..10 {
+        sim.step(1.0 / FPS).unwrap();
+    }
+    assert!(sim.closing_holds().is_empty());
+}

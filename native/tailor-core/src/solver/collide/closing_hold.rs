@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use super::ColliderId;
 use crate::collision::ClosedMesh;
-use crate::error::Result;
+use crate::error::{Result, TailorError};
 use crate::solver::simulation::Simulation;
 
 impl Simulation {
@@ -63,8 +63,14 @@ impl Simulation {
             if near.is_empty() {
                 continue;
             }
+            // A collider whose triangles all have zero area gives nothing to ride on: it holds
+            // nothing, and the step goes on (any other error is a bug and is reported).
+            match self.attach_to_collider(&near, ColliderId(id as u32), stiffness) {
+                Ok(()) => {}
+                Err(TailorError::EmptyMesh { .. }) => continue,
+                Err(e) => return Err(e),
+            }
             near.iter().for_each(|&i| taken[i as usize] = true);
-            self.attach_to_collider(&near, ColliderId(id as u32), stiffness)?;
             self.collide.holds.extend_from_slice(&near);
         }
         Ok(())

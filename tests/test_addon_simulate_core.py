@@ -37,17 +37,30 @@ def box():
 
 
 def test_presets_settings_and_backend_passthrough():
-    assert core_sim.preset_values("PREVIEW")["substeps"] < core_sim.preset_values("FINAL")["substeps"]
+    """The panel's presets are the module's (one source), its defaults open in Final, and the
+    Backend menu reaches the solver: a build with Backend = CPU runs its step on the CPU."""
+    assert core_sim.PRESETS == ("PREVIEW", "FINAL")
+    for name in core_sim.PRESETS:
+        m = tailor.Settings.preset(name.lower())
+        assert core_sim.preset_values(name) == {"substeps": m.substeps, "iterations": m.iterations,
+                                                "tolerance": pytest.approx(m.tolerance)}
+    final, opened = tailor.Settings.preset("final"), core_sim.SimSettings()
+    assert (opened.substeps, opened.iterations, opened.tolerance) == (final.substeps, final.iterations,
+                                                                      pytest.approx(final.tolerance))
+    with pytest.raises(Exception, match="FAST"):
+        core_sim.preset_values("FAST")
     s = core_sim.SimSettings(substeps=3, iterations=7, gravity=(0, 0, -1), air_damping=0.5).to_tailor()
     assert (s.substeps, s.iterations, s.air_damping) == (3, 7, 0.5) and tuple(s.gravity) == (0, 0, -1)
     with pytest.raises(tailor.InvalidParameterError, match="substeps is 0"):
         core_sim.SimSettings(substeps=0).to_tailor()
-    support = core_sim.backend_support()
-    assert support in (None, "settings", "simulation")
-    if support == "settings":
-        assert core_sim.SimSettings(backend="cpu").to_tailor().backend == "cpu"
-    else:  # this build: CPU only, and the adapter line says so
-        assert "CPU" in core_sim.adapter_of(object())
+    v, t = box()
+    fabrics = [core_sim.PieceFabric(0.15, 600.0, 60.0, 2e-5)] * 2
+    built = core_sim.build(two_pieces(), core_sim.SimSettings(backend="cpu"), fabrics, [{}, {}],
+                           [core_sim.ColliderData("box", v, t)])
+    assert built.sim.backend == "cpu" and built.adapter.startswith("CPU")
+    assert built.sim.step(1 / 30)["backend"] == "cpu"
+    with pytest.raises(tailor.InvalidParameterError, match="backend"):
+        core_sim.build(two_pieces(), core_sim.SimSettings(backend="tpu"), fabrics, [{}, {}], [])
 
 
 def test_painted_bend_scale_multiplies_each_triangles_bending():
@@ -103,8 +116,7 @@ def test_build_per_piece_fabric_pins_friction_levels_and_colliders():
     np.testing.assert_allclose(sim.masses[n0:], 2 * same.sim.masses[n0:], rtol=1e-6)
     np.testing.assert_allclose(sim.masses[:n0], same.sim.masses[:n0], rtol=1e-6)
     assert (sim.particle_levels[:n0] == 2).all() and (sim.particle_levels[n0:] == 0).all()
-    hard, soft = core_sim.pin_sets(g, maps)
-    assert hard.tolist() == [0, 1, 2] and [(w, p.tolist()) for w, p in soft] == [(0.5, [3, 4])]
+    assert [(w, p.tolist()) for w, p in built.garment.pin_weights()] == [(1.0, [0, 1, 2]), (0.5, [3, 4])]
     before = sim.positions[:3].copy()
     sim.step(1 / 30)
     np.testing.assert_array_equal(sim.positions[:3], before)  # hard pins stay
@@ -146,38 +158,56 @@ def test_self_collision_radius_and_cloth_friction_pass_through_or_stay_automatic
         pytest.approx(0.5), pytest.approx(0.3))
     s = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007, friction_static=0.6,
                              friction_kinetic=0.4)
-    assert core_sim.self_collision_args(s) == {"enabled": True, "radius": 0.007, "static_friction": 0.6,
-                                               "kinetic_friction": 0.4}
     set_ = core_sim.build(g, s, FABRICS, [{}, {}], col)
     sc = set_.sim.self_collision
     assert sc["radius"] == pytest.approx(0.007) and (sc["static_friction"], sc["kinetic_friction"]) == (
         pytest.approx(0.6), pytest.approx(0.4))
-    with pytest.raises(tailor.InvalidParameterError, match="cloth friction is static -0.1"):
-        core_sim.self_collision_args(core_sim.SimSettings(friction_static=-0.1))
+    with pytest.raises(tailor.InvalidParameterError, match="friction.static"):
+        core_sim.build(g, core_sim.SimSettings(friction_static=-0.1), FABRICS, [{}, {}], col)
     for bad in (float("nan"), -0.001):
-        with pytest.raises(tailor.InvalidParameterError, match="self-collision radius"):
+        with pytest.raises(tailor.InvalidParameterError, match="self_collision_radius"):
             core_sim.build(g, core_sim.SimSettings(self_collision=True, self_collision_radius=bad), FABRICS,
                            [{}, {}], col)
 
 
-def test_file_extras_are_what_the_module_reads_back():
-    from tailor.commands import garment_extras
-
+def test_the_exported_setup_is_what_the_module_reads_back(tmp_path):
+    """What the add-on gives a garment (`garment_of`: setup from the panel, fabric per piece,
+    painted maps, the collider's levels) is saved typed in the garment file and read back as it
+    was; the file's simulation is the add-on's, bit for bit."""
     fab = [core_sim.PieceFabric(0.2, 600.0, 60.0, 2e-5), core_sim.PieceFabric(0.3, 900.0, 90.0, 5e-5)]
-    pin = np.array([0.0, 1.0, 0.5], np.float32)
-    maps = [{"pin": (pin, np.array([False, True, True]))}, {"collision_level": (np.array([3, 3], np.int32), np.ones(2, bool))}]
-    body = np.array([0, 0, 1, 1, 0, 2], np.int32)
+    sg = two_pieces()
+    n0, n1 = int(sg.offsets[1]), sg.num_particles - int(sg.offsets[1])
+    pin = np.zeros(n0, np.float32)
+    pin[[1, 2]] = [1.0, 0.5]
+    maps = [{"pin": (pin, pin > 0)}, {"collision_level": (np.full(n1, 3, np.int32), np.ones(n1, bool))}]
+    body = np.array([0, 0, 1, 1, 0, 2, 0, 0], np.int32)
     chosen = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007, friction_static=0.6)
-    settings, params = core_sim.file_extras("coat", chosen, fab, maps, body)
-    s = settings["tailor_sample"]
-    assert s["name"] == "coat" and s["fabric_per_piece"][1] == {"density": 0.3, "stretch": 900.0, "shear": 90.0,
-                                                                "bend": 5e-5}
-    assert s["self_collision"] and s["self_collision_radius"] == 0.007 and s["thickness"] == 0.004
-    assert (s["friction_static"], s["friction_kinetic"]) == (0.6, 0.3)
-    np.testing.assert_array_equal(garment_extras.decode_runs(s["collider_levels"]["runs"], 6), body)
-    assert [(n, k, v.tolist()) for n, k, v in params] == [("pin", 0, [0.0, 1.0, 0.5]), ("collision_level", 1, [3, 3])]
-    assert "collider_levels" not in core_sim.file_extras("coat", core_sim.SimSettings(), fab, [{}, {}], np.zeros(6))[0][
-        "tailor_sample"]
+    g = core_sim.garment_of(sg.tailor_garment(placements=None), "coat", chosen, fab, maps, body)
+    g.save(tmp_path / "coat.json")
+    back = tailor.Garment.load(tmp_path / "coat.json")
+    s = back.setup
+    assert s == g.setup and s["name"] == "coat" and s["fabrics"][1] == {"density": 0.3, "stretch": 900.0,
+                                                                        "shear": 90.0, "bend": 5e-5}
+    assert s["self_collision"] and s["self_collision_radius"] == pytest.approx(0.007)
+    assert s["thickness"] == pytest.approx(tailor.DEFAULT_THICKNESS)
+    assert s["friction"] == {"static": pytest.approx(0.6), "kinetic": pytest.approx(0.3)}
+    levels, warnings = back.collider_levels(8)
+    np.testing.assert_array_equal(levels, body) and not warnings
+    assert back.collider_levels(9)[0] is None and "9" in back.collider_levels(9)[1][0]
+    painted = {(n, k): v for n, k, v in back.particle_params}
+    np.testing.assert_array_equal(painted[("pin", 0)], pin)
+    np.testing.assert_array_equal(painted[("collision_level", 1)], np.full(n1, 3))
+    np.testing.assert_array_equal(painted[("position", 0)], sg.positions[:n0])
+    settings = chosen.to_tailor()
+    a, _ = g.build_simulation(settings=settings)
+    b, _ = back.build_simulation(settings=settings)
+    for _ in range(3):
+        a.step(1 / 30)
+        b.step(1 / 30)
+    np.testing.assert_array_equal(a.positions, b.positions)
+    # Nothing painted on the collider: nothing recorded.
+    assert core_sim.garment_of(sg.tailor_garment(placements=None), "coat", chosen, fab, [{}, {}],
+                               np.zeros(8)).setup["collider_levels"] is None
 
 
 def test_triangle_size_spread():
@@ -232,5 +262,7 @@ def test_one_seam_stiffness_default_on_every_path():
     sim = tailor.Simulation(v, np.array([[0, 1, 2], [3, 4, 5]], np.uint32), v[:, :2].copy())
     sim.add_seam([0, 1], [3, 4], name="s")
     assert sim.seam_pairs()[0]["stiffness"] == pytest.approx(tailor.DEFAULT_SEAM_STIFFNESS)
+    assert tailor.DEFAULT_SETUP["seam_stiffness"] == pytest.approx(tailor.DEFAULT_SEAM_STIFFNESS)
     props = (ROOT / "addon/tailor_addon/simulate/properties.py").read_text()
-    assert re.search(r"seam_stiffness: FloatProperty\([^)]*default=1\.0e4\)", props), "add-on property default"
+    assert re.search(r"seam_stiffness: FloatProperty\([^)]*default=_SETUP\[\"seam_stiffness\"\]\)", props), \
+        "the add-on's property default is the module's"

@@ -291,11 +291,16 @@ def test_levels_do_not_wrap():
     s.set_particle_levels(np.full(s.num_particles, 3))
 
 
+def edit_setup(manifest, **changes):
+    """A garment file's setup edited by hand (the manifest is JSON; its sidecar is untouched)."""
+    head = json.loads(manifest.read_text())
+    head["setup"].update(changes)
+    manifest.write_text(json.dumps(head))
+
+
 def test_garment_file_collider_levels_do_not_wrap(garment_file):
     g, body = garment_file
-    from tailor.commands import garment_extras
-
-    garment_extras.add_extras(g, {"tailor_sample": {"collider_levels": {"vertices": 6, "runs": [[0, 6, 2**32 + 1]]}}})
+    edit_setup(g, collider_levels={"vertices": 6, "runs": [[0, 6, 2**32 + 1]]})
     r = run_cli("simulate", g, "--collider", body, "--frames", 1, "--report", g.parent / "r.json")
     one_line_error(r, "32-bit")
 
@@ -366,13 +371,14 @@ def test_output_paths_are_checked_before_the_run(garment_file, tmp_path):
     assert time.perf_counter() - t < 60  # refused up front, not after 500 frames
 
 
-def test_a_bad_garment_file_extra_is_one_line(garment_file):
+def test_a_bad_garment_file_setup_is_one_line(garment_file):
     g, body = garment_file
-    from tailor.commands import garment_extras
-
-    garment_extras.add_extras(g, {"tailor_sample": {"fabric_per_piece": [{"density": "heavy"}, {}]}})
+    edit_setup(g, fabrics=[{"density": "heavy", "stretch": 1, "shear": 1, "bend": 0}])
     r = run_cli("simulate", g, "--collider", body, "--frames", 1, "--report", g.parent / "r.json")
-    one_line_error(r, "garment file")
+    one_line_error(r, "heavy")
+    edit_setup(g, fabrics=[], thickness=-1.0)
+    one_line_error(run_cli("simulate", g, "--collider", body, "--frames", 1, "--report", g.parent / "r.json"),
+                   "thickness")
 
 
 def test_ctrl_c_is_one_line_and_exit_130(garment_file):

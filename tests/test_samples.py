@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 
 import tailor
-from tailor.commands import garment_extras
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "sample_blends"
@@ -48,25 +47,27 @@ def test_blend_matches_its_garment_file(sample):
     assert len(g.seams) == len(meta["seams"]) > 0 and len(g.pieces) == len(meta["pieces"])
     np.testing.assert_allclose(sim.positions, a["positions"] @ Z_TO_Y.T, atol=2e-5)
     np.testing.assert_array_equal(offsets, a["offsets"])
-    extras, params = garment_extras.read_extras(SAMPLES / f"{name}.json")
-    for stored, blend in zip(extras["tailor_sample"]["fabric_per_piece"], meta["fabrics"], strict=True):
-        assert stored == pytest.approx(blend)
+    stored = g.setup
+    for fabric, blend in zip(stored["fabrics"], meta["fabrics"], strict=True):
+        assert fabric == pytest.approx(blend)
     assert all(f["density"] > 0 and f["stretch"] > 0 for f in meta["fabrics"])
     # Live and Bake in the .blend simulate the sample as the garment file says (the layered
-    # outfit collides with itself, with its own sphere radius).
-    stored = extras["tailor_sample"]
+    # outfit collides with itself, with its own sphere radius). Friction: the files recorded
+    # none but the layered outfit's (version-1 files read with the solver's 0.3/0.2, which the
+    # command line used), the .blend has the panel's.
+    recorded = name == "layered"
     assert meta["simulate"] == {"thickness": pytest.approx(stored["thickness"]),
                                 "self_collision": stored["self_collision"],
-                                "self_collision_radius": pytest.approx(stored.get("self_collision_radius", 0.0)),
-                                # files from before the friction was recorded: the panel's default
-                                "friction_static": pytest.approx(stored.get("friction_static", 0.5)),
-                                "friction_kinetic": pytest.approx(stored.get("friction_kinetic", 0.3))}
+                                "self_collision_radius": pytest.approx(stored["self_collision_radius"]),
+                                "friction_static": pytest.approx(stored["friction"]["static"] if recorded else 0.5),
+                                "friction_kinetic": pytest.approx(stored["friction"]["kinetic"] if recorded else 0.3)}
     if name == "trousers":
         # Trouser legs 3 and 4; the body's arms 1 and 2 and legs 3 and 4: trousers never meet the arms.
         assert set(np.unique(a["levels"])) == {3, 4}
         assert set(np.unique(a["body_levels"])) == {0, 1, 2, 3, 4}
-        runs = extras["tailor_sample"]["collider_levels"]
-        np.testing.assert_array_equal(garment_extras.decode_runs(runs["runs"], runs["vertices"]), a["body_levels"])
+        levels, warnings = g.collider_levels(len(a["body_levels"]))
+        np.testing.assert_array_equal(levels, a["body_levels"])
+        assert not warnings
     assert (a["pins"] > 0).any()  # waistband / shoulder line / trouser tops are pinned
     assert meta["pose_position"] == "REST"
 

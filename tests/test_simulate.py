@@ -156,18 +156,37 @@ def test_a_sample_garment_file_simulates_with_its_own_settings(tmp_path):
     assert rep["attached"] == 0 and any("painted 'pin'" in w and "left out" in w for w in rep["warnings"]), rep["warnings"]
 
 
-def test_file_setup_attaches_painted_weights_in_proportion():
-    """A pin painted at weight w rides on the collider at w times the stiffness, as the add-on's
-    Ride on Character attaches it; unpainted (0) particles are not pinned."""
-    from tailor.commands import on_character
-
+def test_painted_pins_attach_in_proportion_to_their_weight():
+    """A pin painted at weight w rides on the collider at w times the setup's pin stiffness, one
+    rule for the add-on and the command line (`Garment.attach_groups`, in the core): weights at
+    or above 0.999 are 1, lighter ones rounded to 1/20; unpainted (0) particles are not pinned.
+    Fixed in place instead, weight 1 pins hold and lighter ones pull softly."""
     g = tailor.Garment.load(str(SAMPLES / "skirt.json"))
-    sim, offsets = g.build_simulation()
-    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], np.float32)
-    cid = sim.add_mesh_collider(v, np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]], np.uint32))
+    g.clear_painted("pin")
     n0 = len(g.meshes()[0].rest)
     w = np.zeros(n0, np.float32)
-    w[[0, 1]], w[[2, 3, 4]] = 1.0, 0.5
-    info, pins, warnings = on_character.file_setup(sim, g, offsets, {}, {"pin": {0: w}}, cid, len(v))
-    assert not warnings and info["attached"] == 5 and info["thickness_m"] == 0.004 and not info["self_collision"]
-    assert [(p.tolist(), k) for p, k in pins.groups] == [([2, 3, 4], 50.0), ([0, 1], 100.0)]
+    w[[0, 1]], w[[2, 3, 4]], w[5] = 1.0, 0.5, 0.999
+    w[6] = 0.52
+    g.set_painted("pin", 0, w)
+    assert [(p.tolist(), k) for p, k in g.attach_groups()] == [([0, 1, 5], 100.0), ([2, 3, 4, 6], 50.0)]
+    assert [(x, p.tolist()) for x, p in g.pin_weights()] == [(1.0, [0, 1, 5]), (0.5, [2, 3, 4, 6])]
+    g.setup = {**g.setup, "pin_stiffness": 40.0}
+    assert [k for _, k in g.attach_groups()] == [40.0, 20.0]
+    sim, _ = g.build_simulation()
+    assert not g.build_warnings and len(sim.collider_attached) == 0  # they wait for the bake loop
+    g.setup = {**g.setup, "pin_mode": "fixed"}
+    assert g.attach_groups() == []
+    fixed, _ = g.build_simulation(settings=tailor.Settings(ramp_enabled=False))
+    before = fixed.positions[[0, 1, 5]].copy()
+    fixed.step(1 / 30)
+    np.testing.assert_array_equal(fixed.positions[[0, 1, 5]], before)
+    # Riding pins with nothing to ride on are held in place, and the build says so.
+    g.setup = {**g.setup, "pin_mode": "attach"}
+    held, _ = g.build_simulation(settings=tailor.Settings(ramp_enabled=False), ride=False)
+    assert any("no collider" in x for x in g.build_warnings)
+    held.step(1 / 30)
+    np.testing.assert_array_equal(held.positions[[0, 1, 5]], before)
+    with pytest.raises(tailor.InvalidParameterError, match="pin"):
+        g.set_painted("pin", 0, w[:-1])
+    with pytest.raises(tailor.InvalidParameterError, match="painted map"):
+        g.set_painted("pinn", 0, w)

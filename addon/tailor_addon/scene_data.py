@@ -219,18 +219,12 @@ def bend_of(obj) -> dict | None:
 
 def garment_file(scene, garment: str | None = None):
     """The scene's garment as a `tailor.Garment` (pieces, resolutions, placements from the
-    objects' transforms, bends, seams), to `save()` as a garment file that the module alone can
-    simulate (`python -m tailor simulate`). Hand edits of vertex positions are not kept."""
+    objects' transforms, bends, seams, and the pieces as they stand, hand edits included), to
+    `save()` as a garment file that the module alone simulates as the add-on does (`python -m
+    tailor simulate`): the same garment `build_garment(...).tailor_garment()` gives, plus the
+    placements and bends."""
     objects = piece_objects(scene, garment)
     if not objects:
         raise core.AddonError("the scene has no garment pieces", "Import a pattern first")
-    index = {o.name: i for i, o in enumerate(objects)}
-    seams = [s for s in (read_seam(item, index) for item in scene.tailor.seams) if s is not None]
-    return tailor.Garment.from_parts(
-        [tailor.Piece.from_json(o.tailor_piece.piece_json) for o in objects],
-        [o.tailor_piece.edge_length for o in objects],
-        [s.to_tailor() for s in seams],
-        placements=[placement_of(o) for o in objects],
-        bends=[bend_of(o) for o in objects],
-        meshers=[o.tailor_piece.mesher for o in objects],
-    )
+    return build_garment(scene, garment).tailor_garment(
+        placements=[placement_of(o) for o in objects], bends=[bend_of(o) for o in objects])

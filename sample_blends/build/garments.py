@@ -25,7 +25,7 @@ and registered, as Blender does when it is enabled):
    weights; so trousers never catch on the arms and each trouser leg ignores the other leg;
 6. fabric parameters are set per piece; the .blend is saved (relative paths, compressed);
 7. the garment file is written from the scene (pieces with their placement in the glTF's Y-up
-   frame, bends, seams, fabric and levels as garment_extras settings and per-particle
+   frame, bends, seams, fabric and levels as the typed setup and per-particle
    parameters) and checked: `tailor.Garment.load(...).build_simulation()` must give the scene's
    piece positions, turned to Y-up, within 0.01 mm.
 
@@ -57,7 +57,6 @@ except ImportError:
 import numpy as np
 
 import tailor
-from tailor.commands import garment_extras
 from tailor_addon.core.garment import SeamData
 from tailor_addon.core.simulate import SimSettings
 
@@ -598,25 +597,41 @@ def export_garment(sample: Sample, path: Path, body) -> None:
     seams = [seam_serde(scene_data.read_seam(item, index)) for item in scene.tailor.seams]
     head = next(iter(templates.values()))
     head["pieces"], head["seams"], head["particle_params"] = pieces, seams, []
-    head["settings"] = {"pattern_sources": [str(Path(p).resolve().relative_to(ROOT)) for p in sorted(templates)]}
+    head["settings"] = {"pattern_sources": [str(Path(p).resolve().relative_to(ROOT)) for p in sorted(templates)],
+                        "tailor_sample": {"character": "character.glb", "up": "y"}}
     tmp_manifest = path.with_suffix(".json")
     bin_path = path.with_suffix(".bin")
-    bin_path.write_bytes(garment_extras.MAGIC)
-    head["sidecar"] = {"file": bin_path.name, "bytes": len(garment_extras.MAGIC),
-                       "fnv1a64": f"{garment_extras.fnv1a64(garment_extras.MAGIC):016x}"}
-    tmp_manifest.write_text(json.dumps(head, indent=2))
-    # Fabric, painted pins and levels, the sample's settings: what the add-on's export writes.
+    if bin_path.exists():
+        bin_path.unlink()
+    tmp_manifest.write_text(json.dumps({**head, "particle_params": [], "sidecar": {"file": bin_path.name}}, indent=2))
+    # The pieces and seams as written above, then the setup and painted maps exactly as the
+    # add-on's export gives them (`core.simulate.garment_of`), saved by the module.
     from tailor_addon.core import simulate as core_sim
     from tailor_addon.simulate import gather
 
     chosen = core_sim.SimSettings(thickness=sample.thickness, self_collision=sample.self_collision,
                                   self_collision_radius=sample.self_collision_radius,
                                   friction_static=sample.friction[0], friction_kinetic=sample.friction[1])
-    settings, params = core_sim.file_extras(sample.name, chosen, gather.fabrics(objs), [painted_maps(o) for o in objs],
-                                            scene_data.point_attribute(body.data, LEVEL_ATTR, np.int32))
-    settings["tailor_sample"].update(character="character.glb", up="y")
-    garment_extras.add_extras(tmp_manifest, settings, params)
+    g = load_unsigned(tmp_manifest)
+    core_sim.garment_of(g, sample.name, chosen, gather.fabrics(objs), [painted_maps(o) for o in objs],
+                        scene_data.point_attribute(body.data, LEVEL_ATTR, np.int32))
+    g.save(str(tmp_manifest))
     check_export(tmp_manifest, objs)
+
+
+def load_unsigned(manifest: Path) -> "tailor.Garment":
+    """A manifest written by hand with no painted maps, read by the module: an empty sidecar
+    (its magic bytes) is written beside it and signed in the manifest first."""
+    head = json.loads(manifest.read_text())
+    bin_path = manifest.with_suffix(".bin")
+    magic = b"TLRBIN\x00\x01"
+    bin_path.write_bytes(magic)
+    h = 0xCBF29CE484222325
+    for b in magic:
+        h = ((h ^ b) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    head["sidecar"] = {"file": bin_path.name, "bytes": len(magic), "fnv1a64": f"{h:016x}"}
+    manifest.write_text(json.dumps(head, indent=2))
+    return tailor.Garment.load(str(manifest))
 
 
 def seam_serde(s: SeamData) -> dict:

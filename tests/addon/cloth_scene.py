@@ -133,9 +133,9 @@ def garment_arrays(scene, name: str) -> tuple[dict, list]:
     garment, objects, fabrics, maps, colliders = gather.read_scene(scene)
     dg = bpy.context.evaluated_depsgraph_get()
     built = core_sim.build(garment, gather.sim_settings(scene), fabrics, maps, gather.collider_data(colliders, dg))
-    hard, soft = core_sim.pin_sets(garment, maps)
-    pinned = np.concatenate([hard] + [p for _, p in soft]).astype(np.int64)
-    weights = np.concatenate([np.ones(len(hard))] + [np.full(len(p), w) for w, p in soft]).astype(np.float32)
+    groups = built.garment.pin_weights()  # [(weight, particles)], weight 1 first
+    pinned = np.concatenate([np.zeros(0, np.int64)] + [p for _, p in groups]).astype(np.int64)
+    weights = np.concatenate([np.zeros(0)] + [np.full(len(p), w) for w, p in groups]).astype(np.float32)
     body = bpy.data.objects[BODY]
     bv = gather.evaluated_positions(body, dg)
     bt = gather.evaluated_triangles(body, dg)

@@ -94,8 +94,6 @@ def test_scene_exports_a_garment_file_the_module_simulates_alike(scene, addon, t
 def test_export_operator_writes_a_garment_file(scene, addon, tmp_path):
     import tailor
 
-    from tailor.commands import garment_extras
-
     import_pattern(DATA / "svg/skirt_two_panels.svg", edge_length=0.05)
     # Fabric, a painted pin line, simulation settings: the file carries them for the module.
     front = bpy.data.objects["skirt front"]
@@ -108,13 +106,15 @@ def test_export_operator_writes_a_garment_file(scene, addon, tmp_path):
     assert bpy.ops.tailor.export_garment(filepath=str(out)) == {"FINISHED"}
     g = tailor.Garment.load(str(out))
     assert sorted(p.name for p in g.pieces) == ["skirt back", "skirt front"] and (tmp_path / "skirt.bin").exists()
-    extras, params = garment_extras.read_extras(out)
-    stored = extras["tailor_sample"]
+    stored = g.setup
+    params = {}
+    for name, piece, values in g.particle_params:
+        params.setdefault(name, {})[piece] = values
     k = [p.name for p in g.pieces].index("skirt front")
-    assert stored["fabric_per_piece"][k]["stretch"] == pytest.approx(1234.0)
+    assert stored["fabrics"][k]["stretch"] == pytest.approx(1234.0)
     assert stored["thickness"] == pytest.approx(0.005) and stored["self_collision"]
     assert stored["self_collision_radius"] == pytest.approx(0.007)
-    assert (stored["friction_static"], stored["friction_kinetic"]) == (pytest.approx(0.6), pytest.approx(0.4))
+    assert stored["friction"] == {"static": pytest.approx(0.6), "kinetic": pytest.approx(0.4)}
     pin = params["pin"][k]
     assert len(pin) == len(front.data.vertices) and np.flatnonzero(pin).tolist() == [0, 1, 2]
     bpy.ops.wm.read_homefile(use_empty=True)

@@ -267,3 +267,64 @@ def test_workbench_render_of_a_baked_frame_shows_the_garment(addon, tmp_path):
     assert not blue(without).any()
     garment_pixels = (np.abs(with_garment - without).max(axis=2) > 0.02).sum()
     assert garment_pixels >= blue(with_garment).sum(), garment_pixels
+
+
+def test_the_panel_opens_in_final_with_the_modules_numbers(addon, tmp_path):
+    """One source for presets and defaults: the panel opens labelled Final with the module's
+    Final preset, choosing a preset gives its numbers, and the setup defaults are the module's."""
+    import tailor
+
+    sc = shirt_on_character(tmp_path / "scene.blend", frames=(1, 2))
+    s = sc["scene"].tailor_simulate
+    final = tailor.Settings.preset("final")
+    assert s.preset == "FINAL"
+    assert (s.substeps, s.iterations) == (final.substeps, final.iterations)
+    assert s.tolerance == pytest.approx(final.tolerance)
+    s.preset = "PREVIEW"
+    preview = tailor.Settings.preset("preview")
+    assert (s.substeps, s.iterations, round(s.tolerance, 6)) == (preview.substeps, preview.iterations,
+                                                                 round(preview.tolerance, 6))
+    s.preset = "FINAL"
+    assert (s.substeps, s.iterations) == (final.substeps, final.iterations)
+    setup = tailor.DEFAULT_SETUP
+    assert s.thickness == pytest.approx(setup["thickness"]) and s.pin_stiffness == pytest.approx(setup["pin_stiffness"])
+    assert (s.friction_static, s.friction_kinetic) == (pytest.approx(setup["friction"]["static"]),
+                                                       pytest.approx(setup["friction"]["kinetic"]))
+    assert s.seam_bend_stiffness == pytest.approx(setup["seam_bend_stiffness"])
+
+
+def test_an_exported_garment_bakes_in_the_module_as_in_the_addon(addon, tmp_path):
+    """Round trip: the garment exported by the add-on, baked by the module's bake loop
+    (`tailor.bake.Bake`) with the same settings, collider positions per frame and assembly
+    schedule, gives the add-on's own bake of it, bit for bit (both build the simulation in
+    the core from the same garment: pieces as they stand, setup, painted pins)."""
+    import tailor
+    from tailor import bake
+
+    sc = shirt_on_character(tmp_path / "scene.blend", frames=(1, 3))
+    scene, s = sc["scene"], sc["scene"].tailor_simulate
+    s.preroll, s.transition = 3, 2
+    job = addon.simulate.job.BakeJob(scene)
+    job.run.preroll_max = 3  # a short assembly (the shirt is not sewn by then): the same on both sides
+    positions = {f: job.colliders_at(f) for f in range(job.start, job.end + 1)}
+    assert job.run.run(lambda f: positions[f], job.end)
+    ours = job.run.positions()
+
+    out = tmp_path / "shirt.json"
+    assert bpy.ops.tailor.export_garment(filepath=str(out)) == {"FINISHED"}
+    g = tailor.Garment.load(str(out))
+    sim, _ = g.build_simulation(settings=job.settings.to_tailor(), backend=job.settings.backend)
+    dg = bpy.context.evaluated_depsgraph_get()
+    colliders = []
+    for c, o, start in zip(job.run.colliders, job.collider_objects, job.run.assembly):
+        tris = addon.simulate.gather.evaluated_triangles(o, dg)
+        cid = sim.add_mesh_collider(start, tris, static_friction=o.tailor_collider.friction_static,
+                                    kinetic_friction=o.tailor_collider.friction_kinetic)
+        colliders.append(bake.Collider(c.name, cid, c.num_vertices))
+    pins = bake.ColliderPins(colliders[0].id, g.attach_groups())
+    assert len(pins.particles) > 0  # the shirt's painted shoulder lines
+    theirs = bake.Bake(sim, colliders, job.settings.fps, job.start, s.preroll, job.run.assembly, s.transition,
+                       (0.0, 0.0, 0.0), pins=pins, preroll_max=3)
+    assert theirs.run(lambda f: positions[f], job.end)
+    assert ours.shape == theirs.positions().shape == (3, sim.num_particles, 3)
+    np.testing.assert_array_equal(theirs.positions(), ours)

@@ -56,15 +56,16 @@ def test_live_follows_the_timeline_applies_edits_and_restores(addon, live_scene,
     # ... a repainted Bend Scale map re-applies the fabric, and self-collision turned on at 7 mm,
     # with the cloth's friction, reaches the solver.
     applied = []
-    monkeypatch.setattr(addon.core.simulate, "apply_fabric",
-                        lambda *a, real=addon.core.simulate.apply_fabric: applied.append(real(*a)))
+    monkeypatch.setattr(addon.simulate.live, "_reapply",
+                        lambda g, sim, part, real=addon.simulate.live._reapply: (applied.append(part), real(g, sim, part)))
     bent = pieces[1]
     bent.vertex_groups.new(name="tailor_bend_scale").add(list(range(len(bent.data.vertices))), 1.0, "REPLACE")
     scene.tailor_simulate.self_collision = True
     scene.tailor_simulate.self_collision_radius = 0.007
     scene.tailor_simulate.friction_static = 0.65
     assert bpy.ops.tailor.live_step(count=live.MAPS_EVERY + 1, advance=True) == {"FINISHED"}
-    assert len(applied) == 1 and "bend_scale" in session.maps[pieces.index(bent)]
+    assert applied.count("fabric") == 1 and "bend_scale" in session.maps[pieces.index(bent)]
+    assert any(n == "bend_scale" and k == pieces.index(bent) for n, k, _ in session.tgarment.particle_params)
     sc = solver.run.sim.self_collision
     assert sc["enabled"] and sc["radius_setting"] == pytest.approx(0.007) and sc["radius"] == pytest.approx(0.007)
     assert sc["static_friction"] == pytest.approx(0.65)

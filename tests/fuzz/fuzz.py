@@ -280,9 +280,8 @@ def run_target(target: str, folder: Path, names: list[str]) -> None:
         garment.meshes()
         for seam in garment.seams:
             seam.resolve(garment.meshes())
-        from tailor.commands import garment_extras
-
-        garment_extras.read_extras(path)
+        garment.setup
+        garment.attach_groups()
     elif target == "mesh":
         tailor.read_mesh(path)
     elif target == "animated":

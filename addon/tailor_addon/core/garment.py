@@ -141,45 +141,53 @@ class SceneGarment:
     rest: np.ndarray
     triangles: np.ndarray
     warnings: list[str] = field(default_factory=list)
+    _tailor: tailor.Garment | None = field(default=None, repr=False, compare=False)
+    _pairs: list[dict] | None = field(default=None, repr=False, compare=False)
 
     @property
     def num_particles(self) -> int:
         return len(self.positions)
 
-    def seam_pairs(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Seam `k`'s sewn points as global (a_vertices, a_weights, b_vertices, b_weights).
+    def tailor_garment(self, placements: list | None = None, bends: list | None = None) -> tailor.Garment:
+        """The garment as the module's `tailor.Garment`, the pieces as they stand in the scene
+        (their positions, used instead of placing them again) and the seams as stored; with
+        `placements` and `bends` (per piece, for a garment file) recorded too. Cached for the
+        plain case: the module triangulates the pieces once."""
+        plain = placements is None and bends is None
+        if plain and self._tailor is not None:
+            return self._tailor
+        g = tailor.Garment.from_parts(
+            [tailor.Piece.from_json(p.piece_json) for p in self.pieces],
+            [p.edge_length for p in self.pieces],
+            [s.to_tailor() for s in self.seams],
+            placements=placements,
+            bends=bends,
+            meshers=[p.mesher for p in self.pieces],
+            positions=[np.asarray(p.positions, np.float32).reshape(-1, 3) for p in self.pieces],
+        )
+        if plain:
+            self._tailor = g
+        return g
 
-        A dart's tip, a vertex sewn to itself, is left out: the pair has nothing to do and the
-        solver refuses it (the module's `Garment.build_simulation` leaves it out too)."""
-        s, r = self.seams[k], self.resolved[k]
-        av = np.asarray(r["pair_a_vertices"], np.int64) + int(self.offsets[s.a.piece])
-        bv = np.asarray(r["pair_b_vertices"], np.int64) + int(self.offsets[s.b.piece])
-        aw, bw = np.asarray(r["pair_a_weights"], np.float32), np.asarray(r["pair_b_weights"], np.float32)
-        single = lambda v, w: (w[:, 1] == 0) | (v[:, 0] == v[:, 1])  # noqa: E731  (one vertex, not an edge point)
-        keep = ~(single(av, aw) & single(bv, bw) & (av[:, 0] == bv[:, 0]))
-        return av[keep], aw[keep], bv[keep], bw[keep]
+    def seam_pairs(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Seam `k`'s sewn points as global (a_vertices, a_weights, b_vertices, b_weights), as
+        the module sews them (`Garment.seam_pairs`: a dart's tip, sewn to itself, left out)."""
+        if self._pairs is None:
+            self._pairs = self.tailor_garment().seam_pairs()
+        p = self._pairs[k]
+        return (np.asarray(p["a_vertices"], np.int64), np.asarray(p["a_weights"], np.float32),
+                np.asarray(p["b_vertices"], np.int64), np.asarray(p["b_weights"], np.float32))
 
     def build_simulation(
         self,
         fabric: tailor.Fabric | None = None,
         settings: tailor.Settings | None = None,
-        seam_stiffness: float = 1.0e4,
-        seam_bend_stiffness: float = 1e-5,
+        seam_stiffness: float | None = None,
+        seam_bend_stiffness: float | None = None,
     ) -> tailor.Simulation:
         """A `tailor.Simulation` of the pieces as they stand in the scene, every seam added
-        with its own stiffness factors (as `Garment.build_simulation` does)."""
-        sim = tailor.Simulation(self.positions, self.triangles, self.rest, fabric, settings)
-        for k, s in enumerate(self.seams):
-            av, aw, bv, bw = self.seam_pairs(k)
-            sim.add_weighted_seam(
-                av,
-                aw,
-                bv,
-                bw,
-                stiffness=seam_stiffness * s.stiffness,
-                bend_stiffness=seam_bend_stiffness * s.bend_stiffness,
-                name=s.name,
-            )
+        with its own stiffness factors (`Garment.build_simulation`, with the default setup)."""
+        sim, _ = self.tailor_garment().build_simulation(fabric, settings, seam_stiffness, seam_bend_stiffness)
         return sim
 
 

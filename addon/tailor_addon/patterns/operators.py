@@ -8,7 +8,6 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 from mathutils import Euler, Matrix
 
 import tailor
-from tailor.commands import garment_extras
 
 from .. import scene_data
 from ..core import AddonError, mesh_arrays, placement_rotation, side_by_side
@@ -182,9 +181,10 @@ class TAILOR_OT_set_resolution(bpy.types.Operator):
         return {"FINISHED"}
 
 
-def export_extras(scene, garment: str | None, name: str) -> tuple[dict, list]:
-    """The scene's fabric, painted maps and simulation settings for the garment file
-    (`core.simulate.file_extras`), the pieces in `scene_data.garment_file`'s order."""
+def exported_garment(scene, garment: str | None, name: str):
+    """The scene's garment as a `tailor.Garment` to save: pieces as they stand (and their
+    placements and bends), seams, and the setup and painted maps the panels give it, exactly
+    what the add-on simulates (`core.simulate.garment_of`)."""
     from ..core import simulate as core_sim
     from ..paint.maps import collision_levels, painted_maps
     from ..simulate import gather
@@ -192,8 +192,9 @@ def export_extras(scene, garment: str | None, name: str) -> tuple[dict, list]:
     objects = scene_data.piece_objects(scene, garment)
     colliders = gather.collider_objects(scene)
     levels = collision_levels(colliders[0]) if colliders else None
-    return core_sim.file_extras(name, gather.sim_settings(scene), gather.fabrics(objects),
-                                [painted_maps(o) for o in objects], levels)
+    g = scene_data.garment_file(scene, garment)
+    return core_sim.garment_of(g, name, gather.sim_settings(scene), gather.fabrics(objects),
+                               [painted_maps(o) for o in objects], levels)
 
 
 class TAILOR_OT_export_garment(bpy.types.Operator, ExportHelper):
@@ -212,13 +213,12 @@ class TAILOR_OT_export_garment(bpy.types.Operator, ExportHelper):
 
     @reports_errors("Exporting the garment")
     def execute(self, context):
-        g = scene_data.garment_file(context.scene, self.garment or None)
         path = bpy.path.abspath(self.filepath)
+        g = exported_garment(context.scene, self.garment or None, os.path.splitext(os.path.basename(path))[0])
         g.save(path)
-        extras, params = export_extras(context.scene, self.garment or None, os.path.splitext(os.path.basename(path))[0])
-        garment_extras.add_extras(path, extras, params)
+        painted = sum(1 for name, _, _ in g.particle_params if name != "position")
         self.report({"INFO"}, f"Wrote {os.path.basename(path)}: {len(g.pieces)} pieces, {len(g.seams)} seams, "
-                              f"{len(params)} painted maps")
+                              f"{painted} painted maps")
         return {"FINISHED"}
 
 

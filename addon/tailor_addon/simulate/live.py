@@ -40,7 +40,10 @@ class LiveSession:
         colliders = gather.collider_data(self.collider_objects, dg)
         built = core_sim.build(garment, self.settings, self.fabrics, self.maps, colliders)
         self.warnings, self.adapter = built.warnings, built.adapter
-        self.hard_pins, _ = core_sim.pin_sets(garment, self.maps)
+        # The module's garment the solver was built from: edits change it and re-apply the
+        # changed part in the core (`Garment.apply_fabric`, ...), as the build applied it.
+        self.tgarment = built.garment
+        self.hard_pins = _hard_pins(self.tgarment)
         self.piece_names = [o.name for o in self.objects]
         # What Live overwrites, restored by `stop`.
         self.original = []
@@ -90,25 +93,33 @@ class LiveSession:
             o.data.update()
 
     def pending_edits(self, scene) -> list:
-        """Edits of fabric, settings and painted maps since the solver last saw them."""
+        """Edits of fabric, settings and painted maps since the solver last saw them. Each edit
+        is applied to the module's garment here (main thread) and to the solver by the worker."""
         edits = []
         fabrics = gather.fabrics(self.objects)
         maps = self.maps
         if self.ticks % MAPS_EVERY == 0:
             maps = [painted_maps(o) for o in self.objects]
-        if fabrics != self.fabrics or not all(_same_maps(maps, self.maps, k) for k in ("mass_scale", "bend_scale")):
-            g, f, m = self.garment, fabrics, maps
-            edits.append(lambda sim: core_sim.apply_fabric(sim, g, f, m))
-        if not (_same_maps(maps, self.maps, "friction_static") and _same_maps(maps, self.maps, "friction_kinetic")):
-            g, m, st = self.garment, maps, self.settings
-            edits.append(lambda sim: core_sim.apply_friction(sim, g, m, st))
+        settings = gather.sim_settings(scene)
+        if settings.substeps < 1:  # keep going with the last good settings; the panel shows the value
+            settings = self.settings
+        changed = {k for k in ("mass_scale", "bend_scale", "friction_static", "friction_kinetic", "pin")
+                   if not _same_maps(maps, self.maps, k)}
+        if fabrics != self.fabrics or settings != self.settings or changed:
+            g = core_sim.garment_of(self.tgarment, "", settings, fabrics, maps)
+        if fabrics != self.fabrics or changed & {"mass_scale", "bend_scale"}:
+            edits.append(lambda sim: _reapply(g, sim, "fabric"))
+        if changed & {"friction_static", "friction_kinetic"} or (
+                settings.friction_static, settings.friction_kinetic) != (self.settings.friction_static,
+                                                                       self.settings.friction_kinetic):
+            edits.append(lambda sim: _reapply(g, sim, "friction"))
         pins = self.solver.run.pins
-        if not _same_maps(maps, self.maps, "pin") and pins is not None:
+        if "pin" in changed and pins is not None:
             # Riding on the collider (pin mode ATTACH): the new groups replace the old ones.
-            groups = core_sim.attach_groups(self.garment, maps, self.settings.pin_stiffness)
+            groups = g.attach_groups()
             edits.append(lambda sim, groups=groups: pins.replace(sim, groups))
-        elif not _same_maps(maps, self.maps, "pin"):
-            hard, _soft = core_sim.pin_sets(self.garment, maps)
+        elif "pin" in changed:
+            hard = _hard_pins(g)
             old, pos = self.hard_pins, self.garment.positions
 
             def repin(sim, old=old, hard=hard, pos=pos):
@@ -119,14 +130,9 @@ class LiveSession:
 
             edits.append(repin)
             self.hard_pins = hard
-        settings = gather.sim_settings(scene)
         if settings != self.settings:
-            new = settings
-            if new.substeps < 1:  # keep going with the last good settings; the panel shows the value
-                new = self.settings
-            else:
-                edits.append(lambda sim, s=new: _apply_settings(sim, s))
-            self.settings = new
+            edits.append(lambda sim, s=settings: _apply_settings(sim, g, s))
+        self.settings = settings
         self.fabrics, self.maps = fabrics, maps
         return edits
 
@@ -162,16 +168,20 @@ def _same_maps(a: list[dict], b: list[dict], key: str) -> bool:
     return True
 
 
-def _apply_settings(sim, s: core_sim.SimSettings) -> None:
+def _hard_pins(g) -> np.ndarray:
+    """The weight-1 pins of the module's garment (`Garment.pin_weights`), as particle indices."""
+    return next((np.asarray(p, np.int64) for w, p in g.pin_weights() if w >= 1.0), np.zeros(0, np.int64))
+
+
+def _reapply(g, sim, part: str) -> None:
+    """Re-applies one part of the module garment's setup ("fabric", "friction" or "collision")
+    to the running solver, as its build applied it (`Garment.apply_fabric`, ...)."""
+    getattr(g, f"apply_{part}")(sim)
+
+
+def _apply_settings(sim, g, s: core_sim.SimSettings) -> None:
     sim.settings = s.to_tailor()
-    sim.thickness = float(s.thickness)
-    want = core_sim.self_collision_args(s)
-    have = sim.self_collision
-    # The solver keeps the frictions as float32.
-    if (have["enabled"], have["radius_setting"], have["static_friction"], have["kinetic_friction"]) != (
-            want["enabled"], want["radius"], float(np.float32(want["static_friction"])),
-            float(np.float32(want["kinetic_friction"]))):
-        sim.set_self_collision(**want)
+    _reapply(g, sim, "collision")
 
 
 def start(context) -> LiveSession:

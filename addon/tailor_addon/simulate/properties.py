@@ -17,7 +17,11 @@ import tailor
 
 from ..core.simulate import PRESETS, preset_values
 
+# Every default below is the module's (one source: tailor-core): the defaults of its settings,
+# its Final preset (the panel opens in Final), and the garment setup's defaults.
 _SETTINGS = tailor.Settings()
+_FINAL = tailor.Settings.preset("final")
+_SETUP = tailor.DEFAULT_SETUP
 
 
 FRICTION_HELP = "The cloth's, where not painted: against itself (Self-Collision); painted values also against colliders"
@@ -63,11 +67,13 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         default="FINAL",
         update=_apply_preset,
     )
-    substeps: IntProperty(name="Substeps", description="Solver substeps per frame", min=0, soft_min=1, default=8)
-    iterations: IntProperty(name="Iterations", description="Solver iterations per substep", min=1, default=15)
+    substeps: IntProperty(name="Substeps", description="Solver substeps per frame", min=0, soft_min=1,
+                          default=_FINAL.substeps)
+    iterations: IntProperty(name="Iterations", description="Solver iterations per substep", min=1,
+                            default=_FINAL.iterations)
     tolerance: FloatProperty(
         name="Tolerance", description="Relative residual at which iterations stop early (0: run them all)",
-        min=0.0, default=0.0,
+        min=0.0, default=_FINAL.tolerance,
         precision=6,
     )
     backend: EnumProperty(
@@ -97,7 +103,8 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         default=_SETTINGS.ramp_closing_damping, precision=3,
     )
     thickness: FloatProperty(
-        name="Thickness", description="Collision thickness: distance kept from colliders", min=0.0, default=0.004,
+        name="Thickness", description="Collision thickness: distance kept from colliders", min=0.0,
+        default=_SETUP["thickness"],
         subtype="DISTANCE", unit="LENGTH", precision=4,
     )
     self_collision: BoolProperty(
@@ -109,13 +116,15 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         "Smaller lets layers lie closer, where a crease squeezes them; much under half an edge lets them pass "
         "between particles", min=0.0, default=0.0, subtype="DISTANCE", unit="LENGTH", precision=4,
     )
-    # tailor.DEFAULT_SEAM_STIFFNESS (a literal: properties are declared before the module loads).
     seam_stiffness: FloatProperty(name="Seam Stiffness", description="N/m, times each seam's factor", min=0.0,
-                                  default=1.0e4)
-    seam_bend_stiffness: FloatProperty(name="Seam Bending", min=0.0, default=1e-5, precision=6)
-    # The cloth's friction (core.simulate.self_collision_args, apply_friction).
-    friction_static: FloatProperty(name="Static Friction", description=FRICTION_HELP, min=0.0, default=0.5)
-    friction_kinetic: FloatProperty(name="Kinetic Friction", description=FRICTION_HELP, min=0.0, default=0.3)
+                                  default=_SETUP["seam_stiffness"])
+    seam_bend_stiffness: FloatProperty(name="Seam Bending", min=0.0, default=_SETUP["seam_bend_stiffness"],
+                                       precision=6)
+    # The cloth's friction (the garment setup's `friction`).
+    friction_static: FloatProperty(name="Static Friction", description=FRICTION_HELP, min=0.0,
+                                   default=_SETUP["friction"]["static"])
+    friction_kinetic: FloatProperty(name="Kinetic Friction", description=FRICTION_HELP, min=0.0,
+                                    default=_SETUP["friction"]["kinetic"])
     pin_mode: EnumProperty(
         name="Pins",
         items=(
@@ -128,7 +137,7 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     )
     pin_stiffness: FloatProperty(
         name="Pin Stiffness", description="N/m per pinned vertex riding on the character, times its painted weight",
-        min=0.0, soft_min=1.0, default=100.0,
+        min=0.0, soft_min=1.0, default=_SETUP["pin_stiffness"],
     )
     # Bake
     use_scene_range: BoolProperty(name="Scene Range", description="Bake the scene's frame range", default=True)

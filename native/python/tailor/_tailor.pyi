@@ -9,6 +9,14 @@ import numpy.typing as npt
 
 __version__: str
 DEFAULT_SEAM_STIFFNESS: float
+DEFAULT_SEAM_BEND_STIFFNESS: float
+DEFAULT_THICKNESS: float
+DEFAULT_PIN_STIFFNESS: float
+DEFAULT_FRICTION: tuple[float, float]
+#: The garment setup's defaults (`Garment.setup`'s keys).
+DEFAULT_SETUP: dict[str, Any]
+#: The painted maps a garment's setup applies (`Garment.set_painted`).
+PAINTED_MAPS: list[str]
 MESHER_VERSION: int
 
 ArrayLike = npt.ArrayLike
@@ -330,6 +338,10 @@ class Garment:
     warnings: list[str]
     settings_json: str
     particle_params: list[tuple[str, int, npt.NDArray[Any]]]
+    #: The typed setup (fabric per piece, thickness, friction, self-collision, pins, seam
+    #: stiffness, collider levels); assign a dict to change it.
+    setup: dict[str, Any]
+    build_warnings: list[str]
     @staticmethod
     def from_pattern(
         path: str,
@@ -346,9 +358,20 @@ class Garment:
         placements: Sequence[dict[str, Any] | None] | None = None,
         bends: Sequence[dict[str, Any] | None] | None = None,
         meshers: Sequence[int] | None = None,
+        positions: Sequence[ArrayLike | None] | None = None,
     ) -> Garment: ...
     @staticmethod
     def load(path: str) -> Garment: ...
+    def set_painted(self, name: str, piece: int, values: ArrayLike, painted: ArrayLike | None = None) -> None: ...
+    def clear_painted(self, name: str | None = None) -> None: ...
+    def set_collider_levels(self, levels: ArrayLike | None = None) -> None: ...
+    def collider_levels(self, num_vertices: int) -> tuple[npt.NDArray[np.int32] | None, list[str]]: ...
+    def attach_groups(self) -> list[tuple[npt.NDArray[np.int64], float]]: ...
+    def pin_weights(self) -> list[tuple[float, npt.NDArray[np.int64]]]: ...
+    def apply_fabric(self, sim: Simulation) -> list[str]: ...
+    def apply_friction(self, sim: Simulation) -> list[str]: ...
+    def apply_collision(self, sim: Simulation) -> list[str]: ...
+    def seam_pairs(self) -> list[dict[str, Any]]: ...
     def save(self, path: str) -> None: ...
     def meshes(self) -> list[PieceMesh]: ...
     def add_seam(self, seam: Seam) -> int: ...
@@ -366,9 +389,11 @@ class Garment:
         self,
         fabric: Fabric | None = None,
         settings: Settings | None = None,
-        seam_stiffness: float = 1.0e4,
-        seam_bend_stiffness: float = 1e-5,
+        seam_stiffness: float | None = None,
+        seam_bend_stiffness: float | None = None,
         gap: float = 0.05,
+        backend: str = "auto",
+        ride: bool = True,
     ) -> tuple[Simulation, list[int]]: ...
     def welded(self, positions: ArrayLike | None = None, gap: float = 0.05) -> WeldedMesh: ...
 

@@ -66,7 +66,7 @@ pub fn floats(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f32>> {
 }
 
 /// Integer indices (any integer dtype), checked to be non-negative and below `len` when given.
-fn ints(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<i64>, Vec<usize>)> {
+pub fn ints(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<i64>, Vec<usize>)> {
     let arr = contiguous(obj, "int64", name)?;
     let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
     let flat = arr.call_method1("reshape", (-1,))?;

@@ -7,8 +7,9 @@ use std::path::PathBuf;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use tailor_core::bend::{bend_piece, BendParams, SymmetryLine};
-use tailor_core::garment::{self as core, BuildOptions};
-use tailor_core::garment_file::{self, GarmentPiece};
+use tailor_core::garment::{self as core, BuildOptions, Layout};
+use tailor_core::garment_file::setup::maps;
+use tailor_core::garment_file::{self, GarmentPiece, ParticleParam};
 use tailor_core::pattern::Placement;
 use tailor_core::triangulate::{PieceMesh as CoreMesh, TriangulateOptions, MESHER_VERSION};
 use tailor_core::TailorError;
@@ -17,6 +18,7 @@ use crate::convert::{points2, points3};
 use crate::errors::to_py;
 use crate::patterns::{read_options, rows, Piece, PieceMesh};
 use crate::seams::Seam;
+use crate::settings::{Fabric, Settings};
 use crate::weld::WeldedMesh;
 
 /// A garment: pattern pieces with their resolution, placement and bend, and the seams between
@@ -25,9 +27,39 @@ use crate::weld::WeldedMesh;
 pub struct Garment {
     inner: garment_file::Garment,
     meshes: Option<Vec<CoreMesh>>,
+    /// What the last `build_simulation` left out or changed, for the user.
+    build_warnings: Vec<String>,
 }
 
 impl Garment {
+    /// Runs one part of the setup on `sim`; returns its warnings.
+    fn apply_part(
+        &mut self,
+        py: Python<'_>,
+        sim: &Bound<'_, crate::simulation::Simulation>,
+        f: impl FnOnce(
+            &mut tailor_core::solver::Simulation,
+            &garment_file::Garment,
+            &Layout,
+            &mut Vec<String>,
+        ) -> tailor_core::Result<()>,
+    ) -> PyResult<Vec<String>> {
+        crate::errors::guard(|| {
+            let layout = Layout::of_meshes(self.meshes_ref(py)?);
+            if layout.particles() != sim.borrow_mut().edit(|s| s.num_particles())? {
+                return Err(to_py(TailorError::shape(
+                    "Garment.apply",
+                    "the simulation was not built from this garment",
+                )));
+            }
+            self.inner.setup.validate(layout.vertices.len()).map_err(to_py)?;
+            let mut warnings = Vec::new();
+            let g = &self.inner;
+            sim.borrow_mut().edit(|s| f(s, g, &layout, &mut warnings))?.map_err(to_py)?;
+            Ok(warnings)
+        })
+    }
+
     fn meshes_ref(&mut self, py: Python<'_>) -> PyResult<&Vec<CoreMesh>> {
         if self.meshes.is_none() {
             let g = &self.inner;
@@ -55,7 +87,7 @@ impl Garment {
             let read = read_options(size, units, tolerance)?;
             let (_, inner, meshes) =
                 py.detach(|| core::read_garment(&path, &read, &TriangulateOptions::new(edge))).map_err(to_py)?;
-            Ok(Self { inner, meshes: Some(meshes) })
+            Ok(Self { inner, meshes: Some(meshes), build_warnings: Vec::new() })
         })
     }
 
@@ -65,9 +97,12 @@ impl Garment {
     /// it overrides the piece's own) and bend (`{"axis_point", "axis_direction", "angle_deg",
     /// "symmetry", "threshold"}`, as `set_bend` takes them) and the mesher that made its mesh
     /// (`meshers`, default `MESHER_VERSION` for every piece; see `triangulate`). Every seam is
-    /// checked against the meshes.
+    /// checked against the meshes. `positions` (per piece an (n, 3) array or None): the piece
+    /// as placed, used instead of placing and bending it (kept in the file as the painted map
+    /// `position`), so a garment placed by hand simulates exactly as it stands.
     #[staticmethod]
-    #[pyo3(signature = (pieces, edge_lengths, seams, placements=None, bends=None, meshers=None))]
+    #[pyo3(signature = (pieces, edge_lengths, seams, placements=None, bends=None, meshers=None, positions=None))]
+    #[allow(clippy::too_many_arguments)]
     fn from_parts(
         py: Python<'_>,
         pieces: Vec<Piece>,
@@ -76,6 +111,7 @@ impl Garment {
         placements: Option<Vec<Option<Bound<'_, PyDict>>>>,
         bends: Option<Vec<Option<Bound<'_, PyDict>>>>,
         meshers: Option<Vec<u32>>,
+        positions: Option<Vec<Option<Bound<'_, PyAny>>>>,
     ) -> PyResult<Self> {
         crate::errors::guard(|| {
             let n = pieces.len();
@@ -109,14 +145,24 @@ impl Garment {
             for seam in &inner.seams {
                 seam.resolve(&meshes).map_err(to_py)?;
             }
-            Ok(Self { inner, meshes: Some(meshes) })
+            let positions = positions.unwrap_or_else(|| vec![None; n]);
+            count("positions", positions.len())?;
+            for (piece, p) in positions.iter().enumerate() {
+                if let Some(p) = p {
+                    let v = crate::setup::values(maps::POSITION, p, None, meshes[piece].rest.len(), &inner.setup)?;
+                    inner.particle_params.push(ParticleParam { name: maps::POSITION.into(), piece, values: v });
+                }
+            }
+            Ok(Self { inner, meshes: Some(meshes), build_warnings: Vec::new() })
         })
     }
 
     /// Reads a garment file (`NAME.json` with its `NAME.bin` sidecar).
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Self> {
-        crate::errors::guard(|| Ok(Self { inner: garment_file::load(&path).map_err(to_py)?, meshes: None }))
+        crate::errors::guard(|| {
+            Ok(Self { inner: garment_file::load(&path).map_err(to_py)?, meshes: None, build_warnings: Vec::new() })
+        })
     }
 
     /// Writes the garment file (`path`, plus its `.bin` sidecar next to it).
@@ -124,8 +170,8 @@ impl Garment {
         crate::errors::guard(|| garment_file::save(&self.inner, &path).map_err(to_py))
     }
 
-    /// The file's named settings (its manifest's `settings` object) as JSON text; the add-on
-    /// and `tailor.commands.garment_extras` keep per-piece fabric, levels and choices there.
+    /// The file's free-form named settings (its manifest's `settings` object) as JSON text:
+    /// other tools' data, kept as read (the garment's own setup is `setup`).
     #[getter]
     fn settings_json(&self) -> PyResult<String> {
         crate::errors::guard(|| {
@@ -135,25 +181,16 @@ impl Garment {
     }
 
     /// The painted per-particle parameters as `(name, piece, values)`: float32, int32 or bool
-    /// arrays, one value per vertex of that piece's mesh, as the sidecar holds them.
+    /// arrays, one value per vertex of that piece's mesh ((n, 3) float32 for `position`), as
+    /// the sidecar holds them.
     #[getter]
     fn particle_params<'py>(&self, py: Python<'py>) -> PyResult<Vec<(String, usize, Bound<'py, PyAny>)>> {
         crate::errors::guard(|| {
-            use garment_file::ParticleValues as V;
-            use numpy::PyArray1;
-            Ok(self
-                .inner
+            self.inner
                 .particle_params
                 .iter()
-                .map(|p| {
-                    let values = match &p.values {
-                        V::F32(v) => PyArray1::from_slice(py, v).into_any(),
-                        V::I32(v) => PyArray1::from_slice(py, v).into_any(),
-                        V::Bool(v) => PyArray1::from_slice(py, v).into_any(),
-                    };
-                    (p.name.clone(), p.piece, values)
-                })
-                .collect())
+                .map(|p| Ok((p.name.clone(), p.piece, crate::setup::to_numpy(py, &p.values)?)))
+                .collect()
         })
     }
 
@@ -228,50 +265,212 @@ impl Garment {
         crate::errors::guard(|| Ok(core::import_warnings(&self.inner)))
     }
 
-    /// Builds the sewn cloth and a `tailor.Simulation` with every seam added. Returns
-    /// `(simulation, offsets)`: `offsets[i]` is the index of piece `i`'s first particle.
-    /// Each seam's spring constant is `seam_stiffness` (N/m) times its own stiffness factor;
-    /// pieces without a placement are laid side by side `gap` metres apart.
-    #[pyo3(signature = (fabric=None, settings=None, seam_stiffness=1.0e4, seam_bend_stiffness=1e-5, gap=0.05))]
+    /// The garment's setup as a dict (the garment file's `setup`): `name`, `fabrics` (one
+    /// `{"density", "stretch", "shear", "bend"}` per piece, or empty for the default fabric),
+    /// `thickness`, `friction` (`{"static", "kinetic"}`: the cloth's, against itself and, where
+    /// painted, against colliders), `self_collision`, `self_collision_radius` (0: automatic),
+    /// `pin_mode` ("attach": ride on the collider once the seams have met; "fixed": held in
+    /// place), `pin_stiffness` (N/m at weight 1), `seam_stiffness`, `seam_bend_stiffness`,
+    /// `collider_levels` (`{"vertices", "runs": [[start, length, level], ...]}` or None).
+    /// Assign a dict to change it: missing keys take their defaults, unknown keys and bad values
+    /// are refused (nothing changes then).
+    #[getter]
+    fn setup<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::errors::guard(|| crate::setup::to_dict(py, &self.inner.setup))
+    }
+
+    #[setter(setup)]
+    fn set_setup(&mut self, py: Python<'_>, setup: Bound<'_, PyAny>) -> PyResult<()> {
+        crate::errors::guard(|| {
+            let s = crate::setup::from_dict(py, &setup)?;
+            s.validate(self.inner.pieces.len()).map_err(to_py)?;
+            self.inner.setup = s;
+            Ok(())
+        })
+    }
+
+    /// Paints map `name` (one of `PAINTED_MAPS`: pin, collision_level, friction_static,
+    /// friction_kinetic, mass_scale, bend_scale, position) on piece `piece`: one value per
+    /// vertex of its mesh ((n, 3) for `position`); `painted` (bools, optional) marks the painted
+    /// vertices, the others taking the unpainted value (pin 0, level 0, scales 1, friction the
+    /// setup's). Replaces what the piece had for that map.
+    #[pyo3(signature = (name, piece, values, painted=None))]
+    fn set_painted(
+        &mut self,
+        py: Python<'_>,
+        name: &str,
+        piece: usize,
+        values: Bound<'_, PyAny>,
+        painted: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        crate::errors::guard(|| {
+            let count = self
+                .meshes_ref(py)?
+                .get(piece)
+                .map(|m| m.rest.len())
+                .ok_or_else(|| to_py(TailorError::setting("piece", piece, "no such piece")))?;
+            let v = crate::setup::values(name, &values, painted.as_ref(), count, &self.inner.setup)?;
+            self.inner.particle_params.retain(|p| !(p.name == name && p.piece == piece));
+            self.inner.particle_params.push(ParticleParam { name: name.into(), piece, values: v });
+            Ok(())
+        })
+    }
+
+    /// Records the collision levels painted on the collider (one per vertex) in the setup
+    /// (`collider_levels`, run-length encoded); None or all zero: none.
+    #[pyo3(signature = (levels=None))]
+    fn set_collider_levels(&mut self, levels: Option<Bound<'_, PyAny>>) -> PyResult<()> {
+        crate::errors::guard(|| {
+            let levels = levels.map(|l| crate::colliders::levels(&l, "collider levels")).transpose()?;
+            self.inner.setup.collider_levels = levels
+                .filter(|l| l.iter().any(|&x| x != 0))
+                .map(|l| tailor_core::garment_file::setup::ColliderLevels::encode(&l));
+            Ok(())
+        })
+    }
+
+    /// Removes painted map `name` (every map when None) from every piece.
+    #[pyo3(signature = (name=None))]
+    fn clear_painted(&mut self, name: Option<&str>) -> PyResult<()> {
+        crate::errors::guard(|| {
+            self.inner.particle_params.retain(|p| name.is_some_and(|n| p.name != n));
+            Ok(())
+        })
+    }
+
+    /// Builds the sewn cloth and its `tailor.Simulation`, configured by the garment's setup in
+    /// the core (`tailor_core::garment::apply_setup`): every seam (its spring constant is the
+    /// setup's `seam_stiffness` N/m times its own factor, unless `seam_stiffness` is given),
+    /// fabric per piece (`fabric`, when given, stands for every piece), the painted maps,
+    /// thickness, self-collision, and pins: held in place when the setup's `pin_mode` is
+    /// "fixed" or `ride` is false (no collider to ride on), else left for `attach_groups`.
+    /// Pieces without a placement are laid side by side `gap` metres apart. Returns
+    /// `(simulation, offsets)`: `offsets[i]` is the index of piece `i`'s first particle. What
+    /// the build left out (a painted map for another mesh) is in `build_warnings`.
+    #[pyo3(signature = (fabric=None, settings=None, seam_stiffness=None, seam_bend_stiffness=None, gap=0.05,
+                        backend="auto", ride=true))]
+    #[allow(clippy::too_many_arguments)]
     fn build_simulation<'py>(
         &mut self,
         py: Python<'py>,
-        fabric: Option<Bound<'py, PyAny>>,
-        settings: Option<Bound<'py, PyAny>>,
-        seam_stiffness: f32,
-        seam_bend_stiffness: f32,
+        fabric: Option<Fabric>,
+        settings: Option<Settings>,
+        seam_stiffness: Option<f32>,
+        seam_bend_stiffness: Option<f32>,
         gap: f64,
+        backend: &str,
+        ride: bool,
     ) -> PyResult<(Bound<'py, PyAny>, Vec<u32>)> {
         crate::errors::guard(|| {
-            let meshes = self.meshes_ref(py)?.clone();
+            let mut options = BuildOptions { gap, ..BuildOptions::of(&self.inner) };
+            options.seam_stiffness = seam_stiffness.unwrap_or(options.seam_stiffness);
+            options.seam_bend_stiffness = seam_bend_stiffness.unwrap_or(options.seam_bend_stiffness);
+            let fabric = fabric.as_ref().map(tailor_core::solver::Fabric::from);
+            let settings = settings.map(|s| s.to_core()).transpose()?.unwrap_or_default();
+            let backend = crate::simulation::parse_backend(backend)?;
+            self.meshes_ref(py)?;
             let g = &self.inner;
-            let options = BuildOptions { gap, seam_stiffness, seam_bend_stiffness };
+            let (sim, input, applied) =
+                py.detach(|| core::build_configured(g, fabric, settings, &options, ride)).map_err(to_py)?;
+            self.build_warnings = applied.warnings;
+            let sim = crate::simulation::Simulation::wrap(sim, backend);
+            Ok((Bound::new(py, sim)?.into_any(), input.sewn.offsets.clone()))
+        })
+    }
+
+    /// The seams' sewn points in the sewn cloth's particle indices, as `build_simulation` adds
+    /// them (a dart's tip, sewn to itself, left out), in `Simulation.seam_pairs()`'s form,
+    /// without building a simulation.
+    fn seam_pairs<'py>(&mut self, py: Python<'py>) -> PyResult<Vec<Bound<'py, pyo3::types::PyDict>>> {
+        crate::errors::guard(|| {
+            let meshes = self.meshes_ref(py)?.clone();
+            let options = BuildOptions::of(&self.inner);
+            let g = &self.inner;
             let input = py.detach(|| core::solver_input(g, meshes, &options)).map_err(to_py)?;
-            let m = &input.sewn.mesh;
-            let sim = py.get_type::<crate::simulation::Simulation>().call1((
-                rows(py, m.positions())?,
-                rows(py, m.triangles())?,
-                rows(py, m.rest())?,
-                fabric,
-                settings,
-            ))?;
-            for s in &input.seams {
-                let v: Vec<[[u32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.verts, p.1.verts]).collect();
-                let w: Vec<[[f32; 2]; 2]> = s.pairs.iter().map(|p| [p.0.weights, p.1.weights]).collect();
-                sim.call_method1(
-                    "add_weighted_seam",
-                    (
-                        rows(py, &v.iter().map(|x| x[0]).collect::<Vec<_>>())?,
-                        rows(py, &w.iter().map(|x| x[0]).collect::<Vec<_>>())?,
-                        rows(py, &v.iter().map(|x| x[1]).collect::<Vec<_>>())?,
-                        rows(py, &w.iter().map(|x| x[1]).collect::<Vec<_>>())?,
-                        s.stiffness,
-                        s.bend_stiffness,
-                        s.name.as_str(),
-                    ),
-                )?;
-            }
-            Ok((sim, input.sewn.offsets.clone()))
+            crate::simulation::seam_dicts(py, &input.seams)
+        })
+    }
+
+    /// What the last `build_simulation` left out or changed (a painted map that no longer fits
+    /// its piece, pins held in place for want of a collider), one line each.
+    #[getter]
+    fn build_warnings(&self) -> PyResult<Vec<String>> {
+        crate::errors::guard(|| Ok(self.build_warnings.clone()))
+    }
+
+    /// Applies the setup's fabric per piece and the painted mass and bend scales to `sim` (a
+    /// simulation this garment built), as `build_simulation` does: a live edit.
+    fn apply_fabric(
+        &mut self,
+        py: Python<'_>,
+        sim: &Bound<'_, crate::simulation::Simulation>,
+    ) -> PyResult<Vec<String>> {
+        self.apply_part(py, sim, core::apply_fabric)
+    }
+
+    /// Applies the painted friction (or none) to `sim`, as `build_simulation` does.
+    fn apply_friction(
+        &mut self,
+        py: Python<'_>,
+        sim: &Bound<'_, crate::simulation::Simulation>,
+    ) -> PyResult<Vec<String>> {
+        self.apply_part(py, sim, core::apply_friction)
+    }
+
+    /// Applies the setup's thickness and self-collision to `sim`, as `build_simulation` does.
+    fn apply_collision(
+        &mut self,
+        py: Python<'_>,
+        sim: &Bound<'_, crate::simulation::Simulation>,
+    ) -> PyResult<Vec<String>> {
+        self.apply_part(py, sim, |s, g, _, _| core::apply_collision(s, g))
+    }
+
+    /// The painted pins by weight: `[(weight, particles)]`, weight 1 first (weights at or above
+    /// 0.999), then lighter ones rounded to 1/20, lightest first.
+    fn pin_weights<'py>(&mut self, py: Python<'py>) -> PyResult<Vec<(f32, Bound<'py, PyAny>)>> {
+        crate::errors::guard(|| {
+            let layout = Layout::of_meshes(self.meshes_ref(py)?);
+            let groups = core::setup::painted_pins(&self.inner, &layout).map_err(to_py)?;
+            Ok(groups
+                .into_iter()
+                .map(|(w, p)| (w, numpy::PyArray1::from_vec(py, p.into_iter().map(i64::from).collect()).into_any()))
+                .collect())
+        })
+    }
+
+    /// The pins to attach to the collider once every seam has met (`tailor.bake.ColliderPins`):
+    /// `[(particles, stiffness N/m)]`, the setup's `pin_stiffness` times each painted weight
+    /// (weights at or above 0.999 count as 1; lighter ones are rounded to 1/20). Empty when
+    /// the setup's `pin_mode` is "fixed" or nothing is pinned.
+    fn attach_groups<'py>(&mut self, py: Python<'py>) -> PyResult<Vec<(Bound<'py, PyAny>, f32)>> {
+        crate::errors::guard(|| {
+            let layout = Layout::of_meshes(self.meshes_ref(py)?);
+            let groups = core::pin_groups(&self.inner, &layout).map_err(to_py)?;
+            Ok(crate::setup::groups(py, &groups))
+        })
+    }
+
+    /// The collision levels the setup records for a collider of `num_vertices` vertices:
+    /// `(levels or None, warnings)`; None with a warning when they were painted on a mesh of
+    /// another vertex count.
+    fn collider_levels<'py>(
+        &self,
+        py: Python<'py>,
+        num_vertices: usize,
+    ) -> PyResult<(Option<Bound<'py, PyAny>>, Vec<String>)> {
+        crate::errors::guard(|| {
+            match &self.inner.setup.collider_levels {
+            None => Ok((None, Vec::new())),
+            Some(l) if l.vertices != num_vertices => Ok((
+                None,
+                vec![format!(
+                    "the garment's collider levels are for a mesh of {} vertices, the collider has {num_vertices}: left out",
+                    l.vertices
+                )],
+            )),
+            Some(l) => Ok((Some(numpy::PyArray1::from_vec(py, l.decode().map_err(to_py)?).into_any()), Vec::new())),
+        }
         })
     }
 

@@ -15,6 +15,7 @@ mod patterns;
 mod scenes;
 mod seams;
 mod settings;
+mod setup;
 mod simulation;
 mod weld;
 
@@ -26,6 +27,17 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // One default for every path that sews (Simulation.add_seam, garments, the add-on).
     m.add("MESHER_VERSION", tailor_core::triangulate::MESHER_VERSION)?;
     m.add("DEFAULT_SEAM_STIFFNESS", tailor_core::garment::DEFAULT_SEAM_STIFFNESS)?;
+    // The garment setup's defaults, written once in the core (garment_file::setup): the
+    // add-on's panel, the command line and the docs read them from here.
+    {
+        use tailor_core::garment_file::setup as s;
+        m.add("DEFAULT_SEAM_BEND_STIFFNESS", s::DEFAULT_SEAM_BEND_STIFFNESS)?;
+        m.add("DEFAULT_THICKNESS", s::DEFAULT_THICKNESS)?;
+        m.add("DEFAULT_PIN_STIFFNESS", s::DEFAULT_PIN_STIFFNESS)?;
+        m.add("DEFAULT_FRICTION", (s::DEFAULT_FRICTION.static_friction, s::DEFAULT_FRICTION.kinetic_friction))?;
+        m.add("PAINTED_MAPS", s::maps::ALL.to_vec())?;
+        m.add("DEFAULT_SETUP", setup::to_dict(m.py(), &s::GarmentSetup::default())?)?;
+    }
     errors::register(m)?;
     m.add_class::<settings::Fabric>()?;
     m.add_class::<settings::Settings>()?;

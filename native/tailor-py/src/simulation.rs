@@ -52,7 +52,41 @@ impl Simulation {
     }
 }
 
-fn parse_backend(name: &str) -> PyResult<core::Backend> {
+impl Simulation {
+    /// A simulation of a core one built elsewhere (`Garment.build_simulation`).
+    pub fn wrap(sim: core::Simulation, backend: core::Backend) -> Self {
+        Self { inner: Some(core::Solver::new(sim, backend)) }
+    }
+
+    /// Runs a core edit on the simulation (the GPU copy is marked stale).
+    pub fn edit<R>(&mut self, f: impl FnOnce(&mut core::Simulation) -> R) -> PyResult<R> {
+        Ok(self.solver_mut()?.edit(f))
+    }
+}
+
+/// Seams as `seam_pairs` gives them: name, stiffness, bend_stiffness, and per side the sewn
+/// points as (k, 2) vertex and weight arrays (a vertex has weights (1, 0)).
+pub fn seam_dicts<'py>(py: Python<'py>, seams: &[Seam]) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    seams
+        .iter()
+        .map(|s| {
+            let d = PyDict::new(py);
+            d.set_item("name", s.name.as_str())?;
+            d.set_item("stiffness", s.stiffness)?;
+            d.set_item("bend_stiffness", s.bend_stiffness)?;
+            let side = |f: fn(&(SeamPoint, SeamPoint)) -> SeamPoint| s.pairs.iter().map(f).collect::<Vec<_>>();
+            for (key, pts) in [("a", side(|p| p.0)), ("b", side(|p| p.1))] {
+                let v: Vec<[u32; 2]> = pts.iter().map(|p| p.verts).collect();
+                let w: Vec<[f32; 2]> = pts.iter().map(|p| p.weights).collect();
+                d.set_item(format!("{key}_vertices"), crate::patterns::rows(py, &v)?)?;
+                d.set_item(format!("{key}_weights"), crate::patterns::rows(py, &w)?)?;
+            }
+            Ok(d)
+        })
+        .collect()
+}
+
+pub fn parse_backend(name: &str) -> PyResult<core::Backend> {
     match name {
         "auto" => Ok(core::Backend::Auto),
         "cpu" => Ok(core::Backend::Cpu),
@@ -219,28 +253,7 @@ impl Simulation {
     /// The seams as added: one dict per seam with its name, stiffness, bend_stiffness and the
     /// sewn pairs as (k, 2) vertex and weight arrays per side (a vertex has weights (1, 0)).
     fn seam_pairs<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        crate::errors::guard(|| {
-            self.solver()?
-                .simulation()
-                .model()
-                .seams
-                .iter()
-                .map(|s| {
-                    let d = PyDict::new(py);
-                    d.set_item("name", s.name.as_str())?;
-                    d.set_item("stiffness", s.stiffness)?;
-                    d.set_item("bend_stiffness", s.bend_stiffness)?;
-                    let side = |f: fn(&(SeamPoint, SeamPoint)) -> SeamPoint| s.pairs.iter().map(f).collect::<Vec<_>>();
-                    for (key, pts) in [("a", side(|p| p.0)), ("b", side(|p| p.1))] {
-                        let v: Vec<[u32; 2]> = pts.iter().map(|p| p.verts).collect();
-                        let w: Vec<[f32; 2]> = pts.iter().map(|p| p.weights).collect();
-                        d.set_item(format!("{key}_vertices"), crate::patterns::rows(py, &v)?)?;
-                        d.set_item(format!("{key}_weights"), crate::patterns::rows(py, &w)?)?;
-                    }
-                    Ok(d)
-                })
-                .collect()
-        })
+        crate::errors::guard(|| seam_dicts(py, &self.solver()?.simulation().model().seams))
     }
 
     /// Particle masses, kg (density × a third of adjacent rest areas × mass scale).

@@ -1,8 +1,8 @@
 """A sample garment file on the animated sample character, headless (module only, no bpy).
 
 The sample garments (sample_blends/*.json, written by sample_blends/build/garments.py) hold
-their fabric per piece, collision levels and solver choices in the garment file's extras
-(`garment_extras`); the character is `sample_blends/character.glb` read by
+their fabric per piece, collision levels and solver choices in the garment file's typed setup
+(`tailor.Garment.setup`); the character is `sample_blends/character.glb` read by
 `tailor.AnimatedMesh`, Y-up like the garment files. The stages of a run, in order:
 
 1. **assemble** at the rest pose (the A-pose GarmentCode places its panels for): the seams close
@@ -12,9 +12,8 @@ their fabric per piece, collision levels and solver choices in the garment file'
 3. **animate**: the action plays (looping) at the frame rate.
 
 `Character.at(frame)` gives the body's vertices for any frame of that schedule; `dress()`
-builds the `tailor.Simulation` with the body as a mesh collider. `file_setup()` applies what a
-garment file records besides its pieces and seams to a simulation (the command line's
-`simulate` uses it too, on any collider).
+builds the `tailor.Simulation` with the body as a mesh collider, configured by the garment
+file's own setup (`tailor.Garment.build_simulation`).
 """
 
 from __future__ import annotations
@@ -26,7 +25,6 @@ import numpy as np
 
 import tailor
 from tailor.bake import ASSEMBLY_MAX_S, ColliderPins
-from tailor.commands import garment_extras
 
 GRAVITY_Y = (0.0, -9.81, 0.0)
 
@@ -113,118 +111,52 @@ class Dressed:
         return st
 
 
-ATTACH_STIFFNESS = 100.0  # N/m per pinned particle: holds a waistband against its ~1e-3 N weight
-
-
-def base_fabric(extras: dict):
-    """The fabric a garment file's simulation is built with: its first piece's (the rest are
-    set per triangle by `file_setup`), or the module's default when the file records none."""
-    import tailor
-
-    fabrics = extras.get("tailor_sample", {}).get("fabric_per_piece")
-    return tailor.Fabric(**fabrics[0]) if fabrics else tailor.Fabric()
-
-
-def file_setup(sim, garment, offsets, extras: dict, params: dict, collider: int, collider_vertices: int,
-               thickness: float | None = None, self_collision: bool | None = None) -> tuple[dict, ColliderPins, list]:
-    """Applies to `sim` (built from `garment` with `base_fabric(extras)`, pieces starting at
-    `offsets`) what a garment file records besides its pieces and seams (`garment_extras`):
-    fabric per piece, particles' collision levels, thickness, self-collision with its radius
-    and the cloth's friction against itself, the collider's levels (mesh collider `collider`,
-    of `collider_vertices` vertices), and the painted pins, returned as `ColliderPins` riding on the collider once every seam has met
-    (weight w at w x `ATTACH_STIFFNESS`, as the add-on's pin mode *Ride on Character*).
-    `thickness` and `self_collision` override the file's when given. Per-particle values whose
-    piece has another vertex count (the garment re-triangulated since) and collider levels for
-    another mesh are left out with a warning. Returns (info, pins, warnings)."""
-    sample = extras.get("tailor_sample", {})
-    meshes = garment.meshes()
-    n, counts = sim.num_particles, [len(m.rest) for m in meshes]
-    tri_counts = [len(m.triangles) for m in meshes]
-    warnings: list[str] = []
-    fabrics = sample.get("fabric_per_piece")
-    if fabrics and len(fabrics) != len(meshes):
-        warnings.append(f"the file records fabric for {len(fabrics)} pieces, the garment has {len(meshes)}: not used")
-        fabrics = None
-    base = fabrics[0] if fabrics else None
-    if fabrics and any(f != base for f in fabrics):
-        # Per-piece fabric: stiffness and bending per triangle, density as a mass scale per particle.
-        def per_tri(key: str) -> np.ndarray:
-            return np.repeat([f.get(key, base.get(key)) for f in fabrics], tri_counts).astype(np.float32)
-
-        sim.set_triangle_stiffness(per_tri("stretch"), per_tri("shear"))
-        sim.set_triangle_bending(per_tri("bend"))
-        dens = np.repeat([f.get("density", base.get("density")) / base.get("density") for f in fabrics], counts)
-        sim.set_mass_scale(dens.astype(np.float32))
-
-    def per_particle(name: str, dtype) -> np.ndarray:
-        out = np.zeros(n, dtype)
-        for piece, values in params.get(name, {}).items():
-            if piece >= len(counts) or len(values) != counts[piece]:
-                warnings.append(f"painted '{name}' of piece {piece} does not fit the garment's piece (re-triangulated?):"
-                                " left out")
-                continue
-            out[offsets[piece]:offsets[piece] + len(values)] = values
-        return out
-
-    levels = per_particle("collision_level", np.int32)
-    if levels.any():
-        sim.set_particle_levels(levels)
-    thickness = float(thickness if thickness is not None else sample.get("thickness", 0.004))
-    sim.thickness = thickness  # write-only on the module's Simulation
-    enabled = bool(self_collision if self_collision is not None else sample.get("self_collision", False))
-    radius = float(sample.get("self_collision_radius", 0.0))  # 0: the solver's default
-    # The cloth's friction against itself (files from before it was recorded: the solver's).
-    friction = {k: float(sample[f]) for k, f in (("static_friction", "friction_static"),
-                                                  ("kinetic_friction", "friction_kinetic")) if f in sample}
-    sim.set_self_collision(enabled=enabled, radius=radius if radius > 0 else None, **friction)
-    body_levels = sample.get("collider_levels")
-    if body_levels and int(body_levels["vertices"]) != collider_vertices:
-        warnings.append(f"the file's collider levels are for a mesh of {body_levels['vertices']} vertices, the "
-                        f"collider has {collider_vertices}: left out")
-    elif body_levels:
-        sim.set_collider_levels(collider, garment_extras.decode_runs(body_levels["runs"], collider_vertices))
-    pins = per_particle("pin", np.float32)
-    info = {
-        "levels": sorted(set(int(x) for x in np.unique(levels))),
-        "self_collision": enabled,
-        "self_collision_radius_m": float(sim.self_collision["radius"]),
-        "self_collision_friction": [float(sim.self_collision["static_friction"]),
-                                    float(sim.self_collision["kinetic_friction"])],
-        "thickness_m": thickness,
-        "attached": int((pins > 0).sum()),
-    }
-    # A painted weight w attaches at w times the stiffness, as the add-on's Ride on Character does.
-    weights = np.round(np.clip(pins, 0.0, 1.0), 2)
-    groups = [(np.flatnonzero(weights == w), ATTACH_STIFFNESS * float(w)) for w in np.unique(weights) if w > 0]
-    return info, ColliderPins(collider, groups), warnings
-
-
 def dress(garment_path: str | Path, body: np.ndarray, triangles: np.ndarray, substeps: int = 8,
           iterations: int = 15, thickness: float | None = None) -> Dressed:
-    """A simulation of the garment file on the body (vertices `body`, Y-up), with the garment's
-    own fabric per piece, collision levels, thickness and self-collision choice."""
+    """A simulation of the garment file on the body (vertices `body`, Y-up), configured by the
+    garment's own setup (`tailor.Garment.build_simulation`: fabric per piece, painted maps,
+    thickness, self-collision) and the collider levels it records; its pins ride on the body
+    once the seams have met (`tailor.bake.ColliderPins`)."""
     import tailor
 
     garment_path = str(garment_path)
     g = tailor.Garment.load(garment_path)
-    extras, params = garment_extras.read_extras(garment_path)
+    if thickness is not None:
+        g.setup = {**g.setup, "thickness": float(thickness)}
     settings = tailor.Settings(substeps=substeps, iterations=iterations, gravity=GRAVITY_Y)
-    sim, offsets = g.build_simulation(base_fabric(extras), settings)
+    sim, offsets = g.build_simulation(settings=settings)
     cid = sim.add_mesh_collider(np.asarray(body, np.float32), triangles, static_friction=0.6, kinetic_friction=0.4)
-    setup, pins, warnings = file_setup(sim, g, offsets, extras, params, cid, len(body), thickness=thickness)
+    levels, warnings = g.collider_levels(len(body))
+    if levels is not None:
+        sim.set_collider_levels(cid, levels)
+    warnings = g.build_warnings + warnings
     if warnings:
         raise tailor.InvalidParameterError(f"{garment_path}: " + "; ".join(warnings))
+    pins = ColliderPins(cid, g.attach_groups())
     meshes = g.meshes()
     tris = np.concatenate([np.asarray(m.triangles, np.int64) + o for m, o in zip(meshes, offsets)]).astype(np.uint32)
     info = {
-        "garment": extras.get("tailor_sample", {}).get("name", Path(garment_path).stem),
+        "garment": g.setup["name"] or Path(garment_path).stem,
         "pieces": len(g.pieces),
         "seams": len(g.seams),
         "particles": sim.num_particles,
         "triangles": int(sim.num_triangles),
-        **setup,
+        **setup_info(sim, g, pins),
     }
     return Dressed(sim, cid, list(offsets), tris, info, body=np.asarray(body, np.float32), pins=pins)
+
+
+def setup_info(sim, garment, pins: ColliderPins) -> dict:
+    """What a report says of the garment's setup as applied to `sim`."""
+    return {
+        "levels": sorted(set(int(x) for x in np.unique(sim.particle_levels))),
+        "self_collision": bool(sim.self_collision["enabled"]),
+        "self_collision_radius_m": float(sim.self_collision["radius"]),
+        "self_collision_friction": [float(sim.self_collision["static_friction"]),
+                                    float(sim.self_collision["kinetic_friction"])],
+        "thickness_m": float(garment.setup["thickness"]),
+        "attached": int(len(pins.particles)),
+    }
 
 
 def quality(d: Dressed, start: dict | None = None, metrics: dict | None = None) -> dict:

@@ -21,11 +21,13 @@ Exit status: 0 when the result passes its checks; 1 when the solve diverged (NaN
 (``FAILED_CHECKS``) when it ran to the end but fails a check (fell, open, inside); 2 on an error
 (one line on stderr) or bad arguments. The report is written in every case but the last.
 
-What the garment file records besides its pieces and seams is used as the samples and the
-add-on use it (`tailor.commands.on_character.file_setup`): fabric per piece, collision levels of
-the particles and of the collider, thickness, self-collision with its radius and the cloth's
-friction against itself, and painted pins, which ride on the collider once every seam has met. ``--thickness`` and ``--self-collision``
-override the file's.
+The garment file's setup (``tailor.Garment.setup``) configures the simulation as it does in the
+add-on, in the core (``Garment.build_simulation``): fabric per piece, painted maps (pins,
+collision levels, friction, mass and bend scales), thickness, self-collision with its radius and
+the cloth's friction, the collider's collision levels, and painted pins, which ride on the
+collider once every seam has met. ``--thickness`` and ``--self-collision`` override the file's.
+``--preset`` (default ``final``) gives substeps, iterations and tolerance, as the add-on's
+Quality does (``tailor.Settings.preset``); ``--substeps`` and ``--iterations`` override it.
 """
 
 from __future__ import annotations
@@ -54,9 +56,11 @@ def register(sub):
     p.add_argument("--report", metavar="REPORT.json", required=True)
     p.add_argument("-o", "--output", metavar="CACHE.pc2", help="write the garment's positions per frame")
     p.add_argument("--edge", type=float, help="re-triangulate every piece at this edge length first")
-    p.add_argument("--substeps", type=int, default=8)
-    p.add_argument("--iterations", type=int, default=15)
-    p.add_argument("--thickness", type=float, help="collision thickness, metres (default: the garment file's, else 0.004)")
+    p.add_argument("--preset", choices=("preview", "final"), default="final",
+                   help="quality preset: substeps, iterations and tolerance (default final, as the add-on)")
+    p.add_argument("--substeps", type=int, help="solver substeps per frame (default: the preset's)")
+    p.add_argument("--iterations", type=int, help="solver iterations per substep (default: the preset's)")
+    p.add_argument("--thickness", type=float, help="collision thickness, metres (default: the garment file's)")
     p.add_argument("--self-collision", action="store_true", default=None,
                    help="turn on cloth self-collision (default: as the garment file says, else off)")
     p.set_defaults(run=run)
@@ -99,7 +103,7 @@ class ColliderMotion:
 def run(args):
     import tailor
     from tailor import bake
-    from tailor.commands import garment_extras, on_character
+    from tailor.commands import on_character
 
     # Every check before any work: the settings by name, then the files (an output over an
     # input, or in a folder it cannot be written to, is refused now rather than after the run).
@@ -114,30 +118,33 @@ def run(args):
     if args.edge is not None:  # --edge 0 is an error (set_resolution names it), not "keep"
         for i in range(len(garment.pieces)):
             garment.set_resolution(i, args.edge)
-    extras, params = garment_extras.read_extras(args.garment)
-    settings = tailor.Settings(substeps=args.substeps, iterations=args.iterations, gravity=gravity)
-    try:
-        fabric = on_character.base_fabric(extras)
-    except (KeyError, TypeError, ValueError, AttributeError) as exc:
-        raise tailor.InvalidParameterError(f"{args.garment}: garment file settings: {exc!r}") from None
-    sim, offsets = garment.build_simulation(fabric, settings)
-    sim.set_backend(args.backend)
+    setup = garment.setup
+    if args.thickness is not None:
+        setup["thickness"] = args.thickness
+    if args.self_collision is not None:
+        setup["self_collision"] = bool(args.self_collision)
+    garment.setup = setup
+    # The preset is the module's defaults with its substeps, iterations and tolerance; the
+    # constructor checks what the arguments override, by name.
+    preset = tailor.Settings.preset(args.preset)
+    settings = tailor.Settings(
+        substeps=preset.substeps if args.substeps is None else args.substeps,
+        iterations=preset.iterations if args.iterations is None else args.iterations,
+        tolerance=preset.tolerance, gravity=gravity)
+    sim, offsets = garment.build_simulation(settings=settings, backend=args.backend)
     motion = ColliderMotion(args.collider, args.collider_anim, args.fps)
     cid = sim.add_mesh_collider(motion.at(0), motion.triangles)
-    try:
-        setup, pins, setup_warnings = on_character.file_setup(
-            sim, garment, offsets, extras, params, cid, len(motion.rest), args.thickness, args.self_collision)
-    except tailor.TailorError:
-        raise
-    except (KeyError, TypeError, ValueError, AttributeError, IndexError) as exc:
-        # The extras are free-form JSON written by the add-on; a hand-edited or damaged one
-        # is the file's fault, named as such.
-        raise tailor.InvalidParameterError(f"{args.garment}: garment file extras: {exc!r}") from None
-    warnings += setup_warnings
+    levels, level_warnings = garment.collider_levels(len(motion.rest))
+    if levels is not None:
+        sim.set_collider_levels(cid, levels)
+    warnings += garment.build_warnings + level_warnings
+    pins = bake.ColliderPins(cid, garment.attach_groups())
+    setup = on_character.setup_info(sim, garment, pins)
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
           f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}, "
           f"backend {sim.backend}{f' ({sim.adapter})' if sim.adapter else ''}; thickness "
           f"{setup['thickness_m'] * 1e3:g} mm, self-collision {'on' if setup['self_collision'] else 'off'}, "
+          f"{settings.substeps} substeps x {settings.iterations} iterations ({args.preset}), "
           f"{setup['attached']} pinned particles")
     # Frame 0 is the garment as placed; frames 1..N are one step each (tailor.bake.Bake).
     run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0,

@@ -14,7 +14,8 @@ use rayon::prelude::*;
 
 use crate::bend::bend_piece;
 use crate::error::Result;
-use crate::garment_file::Garment;
+use crate::garment_file::setup::maps;
+use crate::garment_file::{Garment, ParticleValues};
 use crate::pattern::Piece;
 use crate::placement::place_pieces;
 use crate::seam::{sew, SewnGarment, WeightedPoint};
@@ -32,18 +33,26 @@ pub struct BuildOptions {
     pub seam_bend_stiffness: f32,
 }
 
-/// Default seam spring constant of a garment's seams, N/m per sewn pair.
-///
-/// A closed seam carries the tension of the cloth across it, so its gap is that tension over
-/// this constant: the GarmentCode shirt on its body (8 substeps x 15 iterations) settles at
-/// 3.1 mm with 1e3 N/m and 0.5 mm with 1e4 N/m (0.3 mm at 30 iterations), at the same cost
-/// per frame (measured with `python -m tailor simulate`, docs/benchmarks.md). Ten times the
-/// stretch of the default fabric's edge springs keeps seams stiffer than the cloth they join.
-pub const DEFAULT_SEAM_STIFFNESS: f32 = 1.0e4;
+pub use crate::garment_file::setup::{DEFAULT_SEAM_BEND_STIFFNESS, DEFAULT_SEAM_STIFFNESS};
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        BuildOptions { gap: 0.05, seam_stiffness: DEFAULT_SEAM_STIFFNESS, seam_bend_stiffness: 1e-5 }
+        BuildOptions {
+            gap: 0.05,
+            seam_stiffness: DEFAULT_SEAM_STIFFNESS,
+            seam_bend_stiffness: DEFAULT_SEAM_BEND_STIFFNESS,
+        }
+    }
+}
+
+impl BuildOptions {
+    /// The options a garment's own setup asks for (its seam stiffness and bending).
+    pub fn of(garment: &Garment) -> Self {
+        BuildOptions {
+            seam_stiffness: garment.setup.seam_stiffness,
+            seam_bend_stiffness: garment.setup.seam_bend_stiffness,
+            ..BuildOptions::default()
+        }
     }
 }
 
@@ -84,6 +93,15 @@ pub fn solver_input(garment: &Garment, meshes: Vec<PieceMesh>, options: &BuildOp
             bend_piece(pos, &mesh.rest, bend)?;
         }
     }
+    // A piece stored as placed (hand edits and all, e.g. exported from Blender) is used as
+    // stored, where it still fits its mesh.
+    for p in garment.particle_params.iter().filter(|p| p.name == maps::POSITION) {
+        if let (ParticleValues::Vec3(v), Some(pos)) = (&p.values, positions.get_mut(p.piece)) {
+            if v.len() == pos.len() {
+                pos.copy_from_slice(v);
+            }
+        }
+    }
     let sewn = sew(&meshes, &positions, &garment.seams)?;
     let mut seams: Vec<solver::Seam> = garment
         .seams
@@ -106,6 +124,40 @@ pub fn solver_input(garment: &Garment, meshes: Vec<PieceMesh>, options: &BuildOp
         seams[k as usize].pairs.push((a, b));
     }
     Ok(SolverInput { meshes, sewn, seams })
+}
+
+/// A simulation of `garment` configured by its setup ([`super::setup::apply_setup`]): built
+/// with the setup's first fabric (or `fabric`, which then stands for every piece) and seam
+/// stiffness, then fabric per piece, painted maps, pins, thickness and self-collision applied.
+/// `ride`: a collider will be there for riding pins (see `apply_setup`).
+pub fn build_configured(
+    garment: &Garment,
+    fabric: Option<Fabric>,
+    settings: SolverSettings,
+    options: &BuildOptions,
+    ride: bool,
+) -> Result<(Simulation, SolverInput, super::setup::Applied)> {
+    garment.setup.validate(garment.pieces.len())?;
+    let mut g;
+    let garment = match fabric {
+        Some(f) => {
+            g = garment.clone();
+            g.setup.fabrics = vec![f; g.pieces.len()];
+            &g
+        }
+        None => garment,
+    };
+    let base = garment.setup.base_fabric();
+    let (mut sim, input) = build_simulation(garment, base, settings, options)?;
+    let applied = super::setup::apply_setup(&mut sim, garment, &layout_of(&input), ride)?;
+    Ok((sim, input, applied))
+}
+
+/// Where each piece's particles and triangles lie in the sewn cloth.
+pub fn layout_of(input: &SolverInput) -> super::setup::Layout {
+    let layout = super::setup::Layout::of_meshes(&input.meshes);
+    debug_assert_eq!(layout.offsets, input.sewn.offsets, "the sewn cloth concatenates the pieces");
+    layout
 }
 
 /// A simulation of `garment` ready to step: the sewn cloth with every seam added.

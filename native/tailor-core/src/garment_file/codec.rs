@@ -10,13 +10,14 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use super::model::{Garment, GarmentPiece, ParticleParam, ParticleValues};
+use super::setup::GarmentSetup;
 use crate::error::{Result, TailorError};
 use crate::seam::Seam;
 
 /// The `format` field of every garment manifest.
 pub const FORMAT: &str = "tailor-garment";
 /// The version this build writes; it reads this version and older.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 pub(crate) const MAGIC: &[u8; 8] = b"TLRBIN\0\x01";
 
 #[derive(Serialize, Deserialize)]
@@ -26,6 +27,9 @@ struct Manifest {
     sidecar: SidecarRef,
     pieces: Vec<GarmentPiece>,
     seams: Vec<Seam>,
+    /// Absent in version 1 (its setup is in `settings`, see `migrate`).
+    #[serde(default)]
+    setup: Option<GarmentSetup>,
     particle_params: Vec<ArrayRef>,
     settings: BTreeMap<String, serde_json::Value>,
 }
@@ -43,6 +47,8 @@ enum Dtype {
     F32,
     I32,
     Bool,
+    /// Three little-endian f32 per element (`count` elements of 12 bytes).
+    F32x3,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -82,6 +88,10 @@ pub fn encode(garment: &Garment, sidecar_file: &str) -> Result<(String, Vec<u8>)
                 bin.extend(v.iter().map(|&b| b as u8));
                 Dtype::Bool
             }
+            ParticleValues::Vec3(v) => {
+                v.iter().flatten().for_each(|x| bin.extend_from_slice(&x.to_le_bytes()));
+                Dtype::F32x3
+            }
         };
         refs.push(ArrayRef { name: p.name.clone(), piece: p.piece, dtype, offset, count: p.values.len() as u64 });
     }
@@ -95,6 +105,7 @@ pub fn encode(garment: &Garment, sidecar_file: &str) -> Result<(String, Vec<u8>)
         },
         pieces: garment.pieces.clone(),
         seams: garment.seams.clone(),
+        setup: Some(garment.setup.clone()),
         particle_params: refs,
         settings: garment.settings.clone(),
     };
@@ -159,6 +170,7 @@ pub fn decode(json: &str, bin: &[u8], file: &str) -> Result<Garment> {
         let width = match r.dtype {
             Dtype::F32 | Dtype::I32 => 4,
             Dtype::Bool => 1,
+            Dtype::F32x3 => 12,
         };
         let end = r.count.checked_mul(width).and_then(|n| n.checked_add(r.offset));
         let range = match end {
@@ -172,6 +184,9 @@ pub fn decode(json: &str, bin: &[u8], file: &str) -> Result<Garment> {
         let values = match r.dtype {
             Dtype::F32 => ParticleValues::F32(bytes.chunks_exact(4).map(|c| f32::from_le_bytes(word(c))).collect()),
             Dtype::I32 => ParticleValues::I32(bytes.chunks_exact(4).map(|c| i32::from_le_bytes(word(c))).collect()),
+            Dtype::F32x3 => ParticleValues::Vec3(
+                bytes.chunks_exact(12).map(|c| [0, 4, 8].map(|k| f32::from_le_bytes(word(&c[k..k + 4])))).collect(),
+            ),
             Dtype::Bool => {
                 if let Some(i) = bytes.iter().position(|&b| b > 1) {
                     return Err(TailorError::parse(file, entity, format!("boolean {i} is {}", bytes[i])));
@@ -181,5 +196,11 @@ pub fn decode(json: &str, bin: &[u8], file: &str) -> Result<Garment> {
         };
         params.push(ParticleParam { name: r.name.clone(), piece: r.piece, values });
     }
-    Ok(Garment { pieces: m.pieces, seams: m.seams, particle_params: params, settings: m.settings })
+    let mut settings = m.settings;
+    let setup = match m.setup {
+        Some(setup) => setup,
+        None => super::migrate::setup_of_v1(&mut settings, file)?,
+    };
+    setup.validate(m.pieces.len()).map_err(|e| TailorError::parse(file, "setup", e.to_string()))?;
+    Ok(Garment { pieces: m.pieces, seams: m.seams, setup, particle_params: params, settings })
 }

@@ -9,12 +9,18 @@
 //!
 //! Versioning: the manifest carries `version`; this build writes [`VERSION`] and reads any
 //! version from 1 to [`VERSION`], refusing newer files with [`TailorError::Unsupported`].
+//! Version 2 added the typed `setup` ([`setup`]) and three-float arrays (`f32x3`, the placed
+//! positions); a version-1 file's setup, kept in its settings under `tailor_sample`, is read
+//! into the typed setup ([`migrate`]).
 
 pub mod codec;
+mod migrate;
 mod model;
+pub mod setup;
 
 pub use codec::{decode, encode, FORMAT, VERSION};
 pub use model::{Garment, GarmentPiece, ParticleParam, ParticleValues};
+pub use setup::GarmentSetup;
 
 use std::path::{Path, PathBuf};
 

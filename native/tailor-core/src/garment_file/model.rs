@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use super::setup::GarmentSetup;
 use crate::bend::BendParams;
 use crate::pattern::{Piece, Placement};
 use crate::seam::Seam;
@@ -29,6 +30,8 @@ pub enum ParticleValues {
     F32(Vec<f32>),
     I32(Vec<i32>),
     Bool(Vec<bool>),
+    /// Three floats per vertex (the piece's placed positions).
+    Vec3(Vec<[f32; 3]>),
 }
 
 impl ParticleValues {
@@ -37,6 +40,7 @@ impl ParticleValues {
             ParticleValues::F32(v) => v.len(),
             ParticleValues::I32(v) => v.len(),
             ParticleValues::Bool(v) => v.len(),
+            ParticleValues::Vec3(v) => v.len(),
         }
     }
     pub fn is_empty(&self) -> bool {
@@ -53,12 +57,13 @@ pub struct ParticleParam {
     pub values: ParticleValues,
 }
 
-/// A whole garment: pieces, seams, painted parameters and free-form settings (solver and scene
-/// settings belong to their own modules; they are kept here as JSON values by name).
+/// A whole garment: pieces, seams, its typed setup (fabric per piece, pins, collision), painted
+/// parameters, and free-form settings (other tools' data, kept as JSON values by name).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Garment {
     pub pieces: Vec<GarmentPiece>,
     pub seams: Vec<Seam>,
+    pub setup: GarmentSetup,
     pub particle_params: Vec<ParticleParam>,
     pub settings: BTreeMap<String, serde_json::Value>,
 }

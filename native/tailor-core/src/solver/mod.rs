@@ -38,7 +38,7 @@ pub use contacts::{ImplicitCollider, Shape};
 pub use damping::RampPhase;
 pub use measures::{ErrorMeasures, IterationRecord, MethodsMeasurement, ReferenceOptions, StepMeasurement};
 pub use reference::ReferenceInfo;
-pub use settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings, PRESETS};
+pub use settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings, DEFAULT_THICKNESS, PRESETS};
 pub use simulation::Simulation;
 pub use soa::Vec3Soa;
 pub use stats::{ActiveBackend, StageTimings, StepStats};

@@ -271,9 +271,10 @@ impl Model {
                     ));
                 }
             }
-            let area = self.mesh.rest_area(t) as f32;
-            self.triangles.w_stretch[t] = stretch[t] * area;
-            self.triangles.w_shear[t] = shear[t] * area;
+            // In f64 as `new` computes them: the same stiffness gives the same weights.
+            let area = self.mesh.rest_area(t);
+            self.triangles.w_stretch[t] = (stretch[t] as f64 * area) as f32;
+            self.triangles.w_shear[t] = (shear[t] as f64 * area) as f32;
         }
         self.dirty = true;
         Ok(())

@@ -17,8 +17,14 @@ pub enum Method {
     Chebyshev,
 }
 
+/// Default collision thickness: the distance kept between the cloth and colliders, metres.
+/// Every simulation starts with it; a garment's setup records its own (default this one).
+pub const DEFAULT_THICKNESS: f32 = 0.004;
+
 /// Per-material parameters, applied to every triangle/hinge unless overridden per element.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Stored by name in a garment file's setup (every field required there).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Fabric {
     /// Area density, kg/m² (cotton shirting is about 0.1-0.2).
     pub density: f32,
@@ -194,12 +200,15 @@ impl SolverSettings {
     /// * `"preview"`: 4 substeps × at most 10 iterations, stopping at 1e-2: the cheapest
     ///   setting measured that keeps the walking shirt out of the body (2 × 10 and 3 × 10 let
     ///   particles 16 to 22 mm into it);
-    /// * `"final"`: 8 substeps × at most 20 iterations, stopping at 1e-4: the walking shirt's
-    ///   strain (0.35) and seam gap (2 mm) of 6 × 30, for fewer iterations.
+    /// * `"final"`: 8 substeps × 15 iterations, no early stop: what every bake, sample and
+    ///   drape-suite figure is measured at (the add-on's Final, `tailor simulate`'s default).
+    ///   8 × 20 stopping at 1e-4 measured better on the walking shirt (strain 0.35 against
+    ///   0.44, seam gap 2.2 mm against 3.1) at 1.6 times the cost; a solver that converges is
+    ///   issue 28's, not a preset's.
     pub fn preset(name: &str) -> Result<Self> {
         let (substeps, iterations, tolerance) = match name {
             "preview" => (4, 10, 1e-2),
-            "final" => (8, 20, 1e-4),
+            "final" => (8, 15, 0.0),
             other => {
                 return Err(TailorError::setting("preset", other, format!("expected one of {PRESETS:?}")));
             }
@@ -295,8 +304,8 @@ mod tests {
         let p: Vec<SolverSettings> = PRESETS.iter().map(|n| SolverSettings::preset(n).unwrap()).collect();
         for s in &p {
             s.validate().unwrap();
-            assert!(s.tolerance > 0.0, "a preset stops at its tolerance");
         }
+        assert!(p[0].tolerance > 0.0, "preview stops at its tolerance");
         let work = |s: &SolverSettings| s.substeps * s.iterations;
         assert!(work(&p[0]) < work(&p[1]) && p[0].tolerance > p[1].tolerance);
         let err = SolverSettings::preset("fast").unwrap_err().to_string();

@@ -103,7 +103,7 @@ impl Simulation {
             model,
             settings,
             colliders: Vec::new(),
-            thickness: 0.003,
+            thickness: super::settings::DEFAULT_THICKNESS,
             v: Vec3Soa::zeros(n),
             x_start: x.clone(),
             y: x.clone(),

@@ -24,7 +24,7 @@
 use std::time::Instant;
 
 use tailor_core::scenes::sewn_tube;
-use tailor_core::solver::{Fabric, Simulation, SolverSettings, StepStats};
+use tailor_core::solver::{Fabric, Simulation, SolverSettings, Stage, StepStats};
 
 struct Args {
     sizes: Vec<usize>,
@@ -150,14 +150,14 @@ impl Samples {
     fn push(&mut self, st: &StepStats, wall: f64, cpu: f64, n: usize) {
         let t = &st.timings;
         let sub = st.substeps as f64;
-        self.ns_per_pit.push((t.local + t.global) * 1e9 / (n as f64 * st.iterations as f64));
+        self.ns_per_pit.push((t[Stage::Local] + t[Stage::Global]) * 1e9 / (n as f64 * st.iterations as f64));
         self.ms_substep.push(t.total() * 1e3 / sub);
         self.ms_frame.push(wall * 1e3);
         self.cpu_ms_frame.push(cpu * 1e3);
-        self.pred.push(t.prediction * 1e3 / sub);
-        self.local.push(t.local * 1e3 / sub);
-        self.global.push(t.global * 1e3 / sub);
-        self.damping.push(t.damping * 1e3 / sub);
+        self.pred.push(t[Stage::Prediction] * 1e3 / sub);
+        self.local.push(t[Stage::Local] * 1e3 / sub);
+        self.global.push(t[Stage::Global] * 1e3 / sub);
+        self.damping.push(t[Stage::Damping] * 1e3 / sub);
         self.iterations.push(st.iterations as f64);
     }
 }

@@ -16,7 +16,7 @@ use tailor_core::io::obj::read_obj;
 use tailor_core::mesh::ClothMesh;
 use tailor_core::scenes::rectangle;
 use tailor_core::solver::{
-    CollisionSkips, Fabric, MeshColliderOptions, SelfCollisionSettings, Simulation, SolverSettings, StepStats,
+    CollisionSkips, Fabric, MeshColliderOptions, SelfCollisionSettings, Simulation, SolverSettings, Stage, StepStats,
 };
 
 const DT: f32 = 1.0 / 30.0;
@@ -77,10 +77,10 @@ fn run(body: &(Vec<[f32; 3]>, Vec<[u32; 3]>), scene: Scene, warm: usize, frames:
             let c = &s.collision;
             let v = [
                 wall,
-                t.prediction,
-                t.local,
-                t.global,
-                t.damping,
+                t[Stage::Prediction],
+                t[Stage::Local],
+                t[Stage::Global],
+                t[Stage::Damping],
                 c.hash_seconds,
                 c.contact_seconds,
                 c.self_seconds,

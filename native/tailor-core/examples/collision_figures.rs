@@ -7,9 +7,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use tailor_core::collision::collider_hash::{ColliderHash, InsertionRule};
-use tailor_core::collision::metrics::{count_self_intersections, penetration};
 use tailor_core::collision::{SelfCollision, SpatialHash};
 use tailor_core::io::{gltf::GltfScene, obj::read_obj, TriMesh};
+use tailor_core::quality::metrics::{count_self_intersections, penetration};
 
 struct Rng(u64);
 impl Rng {

@@ -5,9 +5,11 @@
 //! * [`mesh`]: the cloth mesh the solver simulates (3D positions, the flat 2D rest shape of each
 //!   pattern piece, triangles) and its derived topology (edges, bending hinges).
 //! * [`solver`]: Projective Dynamics (Bouaziz et al. 2014) solved Vivace-style (Fratarcangeli et
-//!   al. 2016): randomized graph colouring, parallel Gauss-Seidel, Chebyshev acceleration, the
-//!   seam-closing damping ramp of Nylén et al. 2020, plus an f64 reference solver and error
-//!   measures.
+//!   al. 2016) on the CPU, in folders that follow its pipeline: `model/` (the data, with the
+//!   randomized graph colouring), `stages/` (the ordered list of a substep's stages and their
+//!   kernels: parallel Gauss-Seidel, Chebyshev acceleration, the seam-closing damping ramp of
+//!   Nylén et al. 2020), `collide/` (contacts and collisions), `simulation/` (the state and the
+//!   step), `accuracy/` (an f64 reference solver and error measures).
 //! * [`pattern`]: 2D sewing patterns (DXF, SVG, GarmentCode) as outlines in metres.
 //! * [`triangulate`]: a pattern piece becomes an isotropic triangle mesh at a target edge length,
 //!   with its ordered outer contour.
@@ -20,10 +22,13 @@
 //! * [`garment`]: a pattern assembled into a garment (stitches as seams), and a garment into a
 //!   solver ready to step.
 //! * [`garment_file`]: the versioned garment file (JSON manifest plus binary sidecar).
-//! * [`collision`]: the spatial hash of Nylén et al. 2020 and the collision kernels built on
-//!   it (mesh collider, self-collision pairs, intersection tests, quality metrics).
-//! * `gpu` (feature `gpu`): the per-frame solve on the GPU with wgpu (WGSL compute shaders),
-//!   chosen through [`solver::Solver`]'s [`solver::Backend`].
+//! * [`collision`]: the spatial hash of Nylén et al. 2020 and the geometric kernels built on it
+//!   (collider hash, closest points, self-collision pairs, intersection tests, closed meshes),
+//!   free of solver state.
+//! * [`quality`]: quality metrics of a simulated frame and the verdict on them.
+//! * `gpu` (feature `gpu`): the per-frame solve on the GPU with wgpu (WGSL compute shaders).
+//! * [`engine`]: the backend facade, [`engine::Solver`]: steps a simulation on the CPU solver or
+//!   on `gpu`, as [`engine::Backend`] asks, falling back to the CPU.
 //! * [`stability`]: the numerical stress cases (`tests/stability.rs`, `make stress`).
 //! * [`weld`]: the sewn pieces merged along their seams into one mesh, for export (unequal seams
 //!   split so the result stays watertight).
@@ -33,9 +38,13 @@
 //!   Point Cache 2 vertex-animation format.
 //!
 //! The `tailor` Python module (crate `tailor-py`) is a thin layer over this crate.
+//!
+//! Layers, from the bottom: `collision` < `quality` < `solver` < `gpu` < `engine`; a module
+//! imports only those below it (`tests/layers.rs` checks it, with the order inside `solver`).
 
 pub mod bend;
 pub mod collision;
+pub mod engine;
 pub mod error;
 pub mod files;
 pub mod garment;
@@ -47,6 +56,7 @@ pub mod mesh;
 pub mod pattern;
 pub mod placement;
 pub mod playback;
+pub mod quality;
 pub mod scenes;
 pub mod seam;
 pub mod solver;

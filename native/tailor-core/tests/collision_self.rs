@@ -5,7 +5,7 @@ mod collision_common;
 
 use collision_common::*;
 use glam::Vec3;
-use tailor_core::collision::metrics::count_self_intersections;
+use tailor_core::quality::metrics::count_self_intersections;
 use tailor_core::scenes::grid_column;
 use tailor_core::solver::{
     CollisionSkips, MeshColliderOptions, Seam, SelfCollisionSettings, Simulation, SolverSettings,

@@ -9,12 +9,13 @@ mod collision_common;
 
 use collision_common::{box_mesh, cloth_grid, icosphere, plane_mesh, sim_of};
 use glam::Vec3;
-use tailor_core::collision::metrics::count_self_intersections;
+use tailor_core::engine::{Backend, Solver, SolverOptions};
 use tailor_core::mesh::ClothMesh;
+use tailor_core::quality::metrics::count_self_intersections;
 use tailor_core::scenes::{rectangle, sewn_tube};
 use tailor_core::solver::{
-    ActiveBackend, Backend, ColliderId, Fabric, ImplicitCollider, MeshColliderOptions, Method, RampPhase,
-    SelfCollisionSettings, Shape, Simulation, Solver, SolverOptions, SolverSettings,
+    ActiveBackend, ColliderId, Fabric, ImplicitCollider, MeshColliderOptions, Method, RampPhase, SelfCollisionSettings,
+    Shape, Simulation, SolverSettings,
 };
 
 /// Bound on max |Δx| between CPU and GPU positions over the first 30 frames of the hanging

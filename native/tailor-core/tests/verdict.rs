@@ -1,11 +1,11 @@
-//! The verdict on simulated garments (`solver::collide::verdict`), through `Simulation::metrics`:
+//! The verdict on simulated garments (`quality::verdict`), through `Simulation::metrics`:
 //! a sewn tube hung below a body falls off it and is reported as fallen, though its seams close
 //! and nothing pierces the body; the same tube dropped over the top of the body rests on it and
 //! passes every check.
 
 use glam::Vec3;
+use tailor_core::quality::verdict::{centroid_shift, judge, Check};
 use tailor_core::scenes::{icosphere, sewn_tube};
-use tailor_core::solver::collide::verdict::{centroid_shift, judge, Check};
 use tailor_core::solver::{ColliderId, Fabric, MeshColliderOptions, QualityMetrics, Simulation, SolverSettings};
 
 const FPS: f32 = 30.0;

@@ -5,9 +5,9 @@
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use tailor_core::collision::metrics;
 use tailor_core::collision::InsertionRule;
-use tailor_core::solver::collide::verdict;
+use tailor_core::quality::metrics;
+use tailor_core::quality::verdict;
 use tailor_core::solver::{ColliderId, CollisionStats, QualityMetrics, SelfCollisionSettings};
 use tailor_core::TailorError;
 
@@ -135,7 +135,7 @@ fn metrics_from_dict(d: &Bound<'_, PyDict>, name: &str) -> PyResult<QualityMetri
     })
 }
 
-/// The checks a frame fails (see the stub's docstring and `tailor_core::solver::collide::verdict`).
+/// The checks a frame fails (see the stub's docstring and `tailor_core::quality::verdict`).
 #[pyfunction]
 #[pyo3(signature = (metrics, start=None, nan=false))]
 pub fn judge<'py>(

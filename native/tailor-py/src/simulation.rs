@@ -3,6 +3,7 @@
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use tailor_core::engine::{Backend, Solver, SolverOptions};
 use tailor_core::garment::DEFAULT_SEAM_STIFFNESS;
 use tailor_core::mesh::ClothMesh;
 use tailor_core::solver::{
@@ -21,7 +22,7 @@ pub struct Simulation {
     /// `None` while a call that releases the GIL (`step`, `measure_step`, `metrics`,
     /// `attach_to_collider`) has it: another thread's call then gets a `SimulationError`
     /// saying so, where it got pyo3's `RuntimeError: Already borrowed` (see [`Self::detached`]).
-    inner: Option<core::Solver>,
+    inner: Option<Solver>,
 }
 
 fn busy() -> PyErr {
@@ -33,18 +34,18 @@ fn busy() -> PyErr {
 }
 
 impl Simulation {
-    fn solver(&self) -> PyResult<&core::Solver> {
+    fn solver(&self) -> PyResult<&Solver> {
         self.inner.as_ref().ok_or_else(busy)
     }
 
-    fn solver_mut(&mut self) -> PyResult<&mut core::Solver> {
+    fn solver_mut(&mut self) -> PyResult<&mut Solver> {
         self.inner.as_mut().ok_or_else(busy)
     }
 
     /// Runs `f` on the solver with the GIL released and no borrow of `slf` held, so that other
     /// threads may call in meanwhile (and are told the simulation is busy, by a TailorError).
     /// A panic in `f` loses the solver: later calls say busy (the panic was an InternalError).
-    fn detached<T: Send>(slf: &Bound<'_, Self>, f: impl FnOnce(&mut core::Solver) -> T + Send) -> PyResult<T> {
+    fn detached<T: Send>(slf: &Bound<'_, Self>, f: impl FnOnce(&mut Solver) -> T + Send) -> PyResult<T> {
         let mut solver = slf.try_borrow_mut().map_err(|_| busy())?.inner.take().ok_or_else(busy)?;
         let out = slf.py().detach(|| f(&mut solver));
         slf.try_borrow_mut().map_err(|_| busy())?.inner = Some(solver);
@@ -54,8 +55,8 @@ impl Simulation {
 
 impl Simulation {
     /// A simulation of a core one built elsewhere (`Garment.build_simulation`).
-    pub fn wrap(sim: core::Simulation, backend: core::Backend) -> Self {
-        Self { inner: Some(core::Solver::new(sim, backend)) }
+    pub fn wrap(sim: core::Simulation, backend: Backend) -> Self {
+        Self { inner: Some(Solver::new(sim, backend)) }
     }
 
     /// Runs a core edit on the simulation (the GPU copy is marked stale).
@@ -86,11 +87,11 @@ pub fn seam_dicts<'py>(py: Python<'py>, seams: &[Seam]) -> PyResult<Vec<Bound<'p
         .collect()
 }
 
-pub fn parse_backend(name: &str) -> PyResult<core::Backend> {
+pub fn parse_backend(name: &str) -> PyResult<Backend> {
     match name {
-        "auto" => Ok(core::Backend::Auto),
-        "cpu" => Ok(core::Backend::Cpu),
-        "gpu" => Ok(core::Backend::Gpu),
+        "auto" => Ok(Backend::Auto),
+        "cpu" => Ok(Backend::Cpu),
+        "gpu" => Ok(Backend::Gpu),
         other => {
             Err(to_py(tailor_core::TailorError::setting("backend", other, "expected \"auto\", \"cpu\" or \"gpu\"")))
         }
@@ -115,10 +116,9 @@ fn stats_dict<'py>(py: Python<'py>, s: &StepStats, adapter: Option<String>) -> P
     d.set_item("colours", s.colours)?;
     d.set_item("rho", s.rho)?;
     let t = PyDict::new(py);
-    t.set_item("prediction", s.timings.prediction)?;
-    t.set_item("local", s.timings.local)?;
-    t.set_item("global", s.timings.global)?;
-    t.set_item("damping", s.timings.damping)?;
+    for (stage, seconds) in s.timings.iter() {
+        t.set_item(stage.name(), seconds)?;
+    }
     t.set_item("total", s.timings.total())?;
     d.set_item("timings", t)?;
     d.set_item("damping", s.damping)?;
@@ -161,7 +161,7 @@ impl Simulation {
                 None => core::SolverSettings::default(),
             };
             let sim = core::Simulation::new(mesh, fabric, settings).map_err(to_py)?;
-            Ok(Self { inner: Some(core::Solver::new(sim, backend)) })
+            Ok(Self { inner: Some(Solver::new(sim, backend)) })
         })
     }
 
@@ -171,7 +171,7 @@ impl Simulation {
     fn set_backend(&mut self, backend: &str) -> PyResult<()> {
         crate::errors::guard(|| {
             let backend = parse_backend(backend)?;
-            self.solver_mut()?.set_backend(core::SolverOptions { backend, ..Default::default() });
+            self.solver_mut()?.set_backend(SolverOptions { backend, ..Default::default() });
             Ok(())
         })
     }

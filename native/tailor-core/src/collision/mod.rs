@@ -1,4 +1,7 @@
-//! Collision building blocks (Nylén et al. 2020, section 6), independent of the solver.
+//! Collision building blocks (Nylén et al. 2020, section 6), independent of the solver: the
+//! geometric kernels that the solver's contacts ([`crate::solver::collide`]), the quality
+//! metrics ([`crate::quality`]) and the GPU backend's shaders share. Imports nothing above
+//! [`crate::mesh`].
 //!
 //! * [`hash`]: the spatial hash of Eq. 1-3, rebuilt from scratch every substep by a parallel
 //!   counting sort; buckets hold `(cell_id, index)` entries so primitives of different cells
@@ -9,22 +12,18 @@
 //!   particle-vs-cell test.
 //! * [`intersect`]: segment-triangle and triangle-triangle intersection predicates.
 //! * [`self_collision`]: particle pairs closer than `2r` found through the hash.
-//! * [`metrics`]: quality measures (penetration, self-intersections, strain, kinetic energy,
-//!   seam gap, the share of the cloth near the body and its centroid) reported to the user;
-//!   [`closed_mesh`] holds the inside (ray parity) and distance queries behind the penetration
-//!   and on-body measures. The verdict on them is `solver::collide::verdict`.
+//! * [`closed_mesh`]: the inside (ray parity) and distance queries of a closed body, behind
+//!   the penetration and on-body measures of [`crate::quality`].
 //!
 //! Positions come either as structure-of-arrays `f32` slices (the solver's layout) or as
 //! `&[[f32; 3]]` (meshes). Everything called per substep reuses its buffers: after the first
-//! call with a given problem size it does not allocate (the metrics, run once per frame,
-//! may).
+//! call with a given problem size it does not allocate.
 
 pub mod closed_mesh;
 pub mod collider_hash;
 pub mod geometry;
 pub mod hash;
 pub mod intersect;
-pub mod metrics;
 pub mod self_collision;
 
 pub use closed_mesh::{ClosedMesh, Penetration};

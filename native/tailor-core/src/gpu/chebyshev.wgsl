@@ -1,4 +1,4 @@
-// Chebyshev acceleration on the GPU (port of `solver/chebyshev.rs`, ρ measured on the CPU).
+// Chebyshev acceleration on the GPU (port of `solver/stages/chebyshev.rs`, ρ measured on the CPU).
 // `reduce_omega` (one workgroup) sums the sweep's squared updates, applies the growth check and
 // the ω recurrence, and records the relative residual; `extrapolate` then applies
 // x ← ω(x − prev) + prev and shifts the history (prev ← cur, cur ← x).

@@ -22,7 +22,7 @@ pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
 mod tests {
     use super::*;
     use crate::gpu::common::validate_wgsl;
-    use crate::solver::contacts::CONTACT_WEIGHT_FACTOR;
+    use crate::solver::collide::contacts::CONTACT_WEIGHT_FACTOR;
 
     #[test]
     fn contacts_wgsl_validates_and_uses_the_cpu_weight_factor() {

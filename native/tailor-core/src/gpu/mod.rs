@@ -44,7 +44,7 @@
 //! The collision stages compose their source as `common.wgsl + collide_common.wgsl (+
 //! mesh_query.wgsl) + stage.wgsl`; the unit tests validate exactly those composed sources.
 //!
-//! **Not yet on the GPU** (a [`Solver`](crate::solver::Solver) asked for the GPU falls back to
+//! **Not yet on the GPU** (a [`Solver`](crate::engine::Solver) asked for the GPU falls back to
 //! the CPU with a warning): the Jacobi method, the early stop on `tolerance` (it would need a
 //! readback per iteration), attachments to a mesh collider (`Simulation::attach_to_collider`:
 //! their targets move every substep), and more than [`collide_common::MAX_MESHES`] mesh
@@ -73,13 +73,13 @@ use std::time::Instant;
 use bytemuck::Zeroable;
 
 use crate::error::TailorError;
-use crate::solver::damping::{Ramp, RampPhase};
-use crate::solver::settings::Method;
+use crate::solver::model::settings::Method;
+use crate::solver::stages::damping::{Ramp, RampPhase};
 use crate::solver::{ActiveBackend, Simulation, SolverView, StepStats};
 
 use crate::collision::InsertionRule;
 use crate::solver::collide::mesh_collider::{MeshCollider, PAD};
-use crate::solver::collide::CollisionStats;
+use crate::solver::CollisionStats;
 use collide_common::{buckets_for, MeshInfo, Meshes, TableInfo, MAX_MESHES};
 use common::{
     Collider, Contact, Params, StepState, KIND_CAPSULE, KIND_PLANE, KIND_SPHERE, PARTICLE_PINNED, PARTICLE_SEWN,
@@ -1112,7 +1112,7 @@ impl GpuSolver {
         };
         // Stages are not timed separately on the GPU (no timestamp queries): the whole frame,
         // upload and readback included, is reported as the global step.
-        stats.timings.global = t0.elapsed().as_secs_f64();
+        stats.timings[crate::solver::Stage::Global] = t0.elapsed().as_secs_f64();
         Ok(stats)
     }
 

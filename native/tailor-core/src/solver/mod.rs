@@ -1,45 +1,44 @@
-//! The cloth solver: implicit Euler by Projective Dynamics (Bouaziz et al. 2014), solved
-//! Vivace-style (Fratarcangeli, Tibaldo and Pellacini 2016) on the CPU with rayon.
+//! The cloth solver on the CPU: implicit Euler by Projective Dynamics (Bouaziz et al. 2014),
+//! solved Vivace-style (Fratarcangeli, Tibaldo and Pellacini 2016) with rayon.
 //!
-//! Stages of a substep, in order (see [`simulation`]): prediction, then iterations of local
-//! (projections, [`local`]) and global (coloured Gauss-Seidel with Chebyshev, [`global`],
-//! [`colouring`], [`chebyshev`]) steps, then damping (velocities, friction, the seam-closing
-//! ramp, [`damping`]). [`reference`] and [`measures`] say how accurate a step is.
+//! The folders follow the pipeline, from data to step to checks:
+//!
+//! ```text
+//! solver/
+//!   model/       what is simulated: Model, constraints, global system, colouring, SoA, settings
+//!   stages/      the ordered list of a substep's stages (STAGES) and their kernels:
+//!                prediction → (local → global)×iterations → damping
+//!   collide/     contacts and collisions: analytic shapes, mesh colliders, self-collision, levels
+//!   stats.rs     what a step reports (StepStats, CollisionStats; timings per stage)
+//!   sleep.rs     when a cloth at rest stops being solved
+//!   simulation/  Simulation: the state and the step that walks STAGES; the hooks that run
+//!                collide/ inside the stages; the view the GPU backend uploads from
+//!   accuracy/    the reference solver and the error measures (tests and benchmarks)
+//! ```
+//!
+//! Imports go down this list only (`model` < `stages` < `stats` < `collide` < `sleep` <
+//! `simulation` < `accuracy`; `tests/layers.rs` checks it): the parts never import the
+//! simulation that runs them. The solver imports neither the GPU backend ([`crate::gpu`]) nor
+//! the facade that chooses between the two ([`crate::engine`]); both sit above it.
 
-mod backend;
-pub mod chebyshev;
-mod cholesky;
+pub mod accuracy;
 pub mod collide;
-pub mod colouring;
-pub mod constraints;
-pub mod contacts;
-pub mod damping;
-mod global;
-mod local;
-pub mod measures;
 pub mod model;
-mod objective;
-mod reference;
-pub mod settings;
-mod shape_check;
 pub mod simulation;
 pub mod sleep;
-pub mod soa;
+pub mod stages;
 pub mod stats;
-pub mod system;
-mod view;
 
-pub use backend::{Backend, Solver, SolverOptions, AUTO_GPU_MIN_PARTICLES};
-pub use collide::{
-    ColliderId, CollisionSkips, CollisionStats, MeshColliderOptions, QualityMetrics, SelfCollisionSettings,
+pub use crate::quality::QualityMetrics;
+pub use accuracy::{
+    ErrorMeasures, IterationRecord, MethodsMeasurement, ReferenceInfo, ReferenceOptions, StepMeasurement,
 };
-pub use constraints::{Attachment, ColliderAttachment, Seam, SeamPoint};
-pub use contacts::{ImplicitCollider, Shape};
-pub use damping::RampPhase;
-pub use measures::{ErrorMeasures, IterationRecord, MethodsMeasurement, ReferenceOptions, StepMeasurement};
-pub use reference::ReferenceInfo;
-pub use settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings, DEFAULT_THICKNESS, PRESETS};
+pub use collide::{ColliderId, CollisionSkips, ImplicitCollider, MeshColliderOptions, SelfCollisionSettings, Shape};
+pub use model::constraints::{Attachment, ColliderAttachment, Seam, SeamPoint};
+pub use model::settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings, DEFAULT_THICKNESS, PRESETS};
+pub use model::soa::Vec3Soa;
+pub use simulation::view::SolverView;
 pub use simulation::Simulation;
-pub use soa::Vec3Soa;
-pub use stats::{ActiveBackend, StageTimings, StepStats};
-pub use view::SolverView;
+pub use stages::damping::RampPhase;
+pub use stages::{Stage, StageTimings, STAGES};
+pub use stats::{ActiveBackend, CollisionStats, StepStats};

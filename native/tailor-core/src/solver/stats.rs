@@ -1,33 +1,9 @@
-//! What a step reports: per-stage timings, iterations used, the final residual.
+//! What a step reports: per-stage timings, iterations used, the final residual, the collision
+//! work. A leaf: the types here name no solver state, so the simulation, the collisions and
+//! the GPU backend all fill them without importing each other.
 
-use super::collide::CollisionStats;
-use super::damping::RampPhase;
-
-/// Wall time per solver stage, seconds, summed over a step's substeps.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct StageTimings {
-    /// Inertial prediction `y = x + h·v + h²·g` and the fixed part of the right-hand side.
-    pub prediction: f64,
-    /// Local step: constraint projections (and contact detection against colliders).
-    pub local: f64,
-    /// Global step: the Gauss-Seidel (or Jacobi) sweeps, Chebyshev included.
-    pub global: f64,
-    /// Velocity update, friction, air damping and the seam-closing ramp.
-    pub damping: f64,
-}
-
-impl StageTimings {
-    pub fn total(&self) -> f64 {
-        self.prediction + self.local + self.global + self.damping
-    }
-
-    pub(crate) fn add(&mut self, o: &StageTimings) {
-        self.prediction += o.prediction;
-        self.local += o.local;
-        self.global += o.global;
-        self.damping += o.damping;
-    }
-}
+use crate::solver::stages::damping::RampPhase;
+use crate::solver::stages::StageTimings;
 
 /// Which backend ran a step.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -67,4 +43,30 @@ pub struct StepStats {
     pub backend: ActiveBackend,
     /// Why a requested GPU backend is not in use (no adapter, unsupported feature), if so.
     pub warning: Option<String>,
+}
+
+/// Collision work of a step, summed over its substeps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CollisionStats {
+    /// Interpolating collider positions and (re)building their hashes, seconds.
+    pub hash_seconds: f64,
+    /// Particle-vs-cell tests of the iterations (included in the local stage's time too).
+    pub contact_seconds: f64,
+    /// Self-collision passes (included in the global stage's time too).
+    pub self_seconds: f64,
+    /// End-of-substep penetration resolve and contact friction bookkeeping.
+    pub resolve_seconds: f64,
+    /// Collider hashes rebuilt / reused.
+    pub rebuilds: u32,
+    pub reuses: u32,
+    /// Collider triangles filed / culled in the last substep (all colliders).
+    pub triangles_kept: usize,
+    pub triangles_culled: usize,
+    /// Particles touching a mesh collider at the end of the step.
+    pub mesh_contacts: usize,
+    /// Overlapping cloth pairs corrected by the last self-collision pass.
+    pub self_pairs: usize,
+    /// Hash searches of the self-collision passes (a search serves passes until a particle
+    /// has moved half the search margin).
+    pub self_searches: u32,
 }

@@ -163,7 +163,7 @@ impl MeshCollider {
     pub fn new(vertices: &[[f32; 3]], triangles: &[[u32; 3]], opts: MeshColliderOptions) -> Result<Self> {
         validate(vertices, triangles)?;
         for (name, v) in [("static_friction", opts.static_friction), ("kinetic_friction", opts.kinetic_friction)] {
-            crate::solver::settings::non_negative(name, v)?;
+            crate::solver::model::settings::non_negative(name, v)?;
         }
         let cell = match opts.cell_size {
             Some(c) if !(c.is_finite() && c > 0.0) => {

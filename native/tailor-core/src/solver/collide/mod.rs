@@ -1,51 +1,32 @@
-//! Collisions of the cloth with animated characters (mesh colliders) and with itself
-//! (Nylén et al. 2020, section 6), wired into the solver's substep.
+//! Contacts and collisions in the solver, in one place: the cloth against analytic shapes
+//! ([`contacts`]: planes, spheres, capsules, with [`shape_check`] on their input), against
+//! animated characters ([`mesh_collider`]) and against itself ([`self_collide`]), Nylén et al.
+//! 2020, section 6; the rule that switches collisions off by level ([`levels`]); and the
+//! collision state a simulation owns ([`Collisions`]).
 //!
-//! Where each part runs in a substep (see `simulation.rs`):
+//! The geometric kernels (the spatial hash, closest points, intersection tests) are solver-free
+//! and live in [`crate::collision`], where the quality metrics and the GPU backend use them too.
+//! The hooks that run these parts inside a substep, and the public API that adds colliders to
+//! a simulation, are in `simulation/colliders.rs` (with attachments to colliders and the
+//! closing hold beside it): this module never imports the simulation, so there is no cycle.
 //!
-//! 1. after the prediction, [`Simulation::prepare_mesh_collisions`]: every mesh collider takes
-//!    its positions for this substep (interpolated within the frame) and rebuilds its hash;
-//! 2. in each iteration's local step, with the analytic colliders, every particle runs the
-//!    particle-vs-cell test against every mesh collider; a hit becomes the particle's contact
-//!    in the shared [`ContactSet`](super::contacts::ContactSet) (weight on the diagonal of its
-//!    Gauss-Seidel row, target on the right-hand side), living for this iteration only;
-//! 3. after each iteration's global step, the self-collision pass pushes overlapping particle
-//!    spheres apart ([`self_collide`]);
-//! 4. at the end of the substep, particles still behind a mesh collider are put on their
-//!    target and Coulomb friction acts on the velocity relative to the touched triangle.
-//!
-//! Particles can also be attached to a mesh collider and ride on it ([`attach`]): their
-//! targets are recomputed in the prediction from the collider positions of the substep.
-//!
-//! The rule that switches collisions off by level is in [`levels`]. The skips the scene
-//! decides (no hash without mesh colliders, no self pass when off, hash reuse for a still
-//! collider, culling of triangles far from the cloth) are switchable in Rust only, through
-//! [`CollisionSkips`], so benchmarks and tests can measure and compare them.
+//! The skips the scene decides (no hash without mesh colliders, no self pass when off, hash
+//! reuse for a still collider, culling of triangles far from the cloth) are switchable in Rust
+//! only, through [`CollisionSkips`], so benchmarks and tests can measure and compare them.
 
-mod attach;
-mod closing_hold;
+pub mod contacts;
 pub mod levels;
 pub(crate) mod mesh_collider;
 pub(crate) mod self_collide;
-pub mod verdict;
+pub(crate) mod shape_check;
 
-use std::time::Instant;
-
-use glam::Vec3;
-use rayon::prelude::*;
-
+pub use contacts::{ImplicitCollider, Shape};
 pub use mesh_collider::{ColliderId, MeshColliderOptions};
 pub use self_collide::SelfCollisionSettings;
 
 use self::mesh_collider::MeshCollider;
-use self::self_collide::{PassInput, SelfCollide};
-use super::contacts::CONTACT_WEIGHT_FACTOR;
-use super::simulation::Simulation;
-use crate::collision::closed_mesh::ClosedMesh;
-use crate::collision::metrics::{
-    centroid, count_self_intersections, edge_strain, kinetic_energy_soa, on_body_fraction, ON_BODY_DISTANCE,
-};
-use crate::error::{Result, TailorError};
+use self::self_collide::SelfCollide;
+use crate::solver::stats::CollisionStats;
 
 /// Marks a `ContactSet::collider` entry as mesh collider `c & !MESH_CONTACT`.
 pub(crate) const MESH_CONTACT: u32 = 1 << 31;
@@ -69,63 +50,6 @@ impl Default for CollisionSkips {
     }
 }
 
-/// Collision work of a step, summed over its substeps.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct CollisionStats {
-    /// Interpolating collider positions and (re)building their hashes, seconds.
-    pub hash_seconds: f64,
-    /// Particle-vs-cell tests of the iterations (included in the local stage's time too).
-    pub contact_seconds: f64,
-    /// Self-collision passes (included in the global stage's time too).
-    pub self_seconds: f64,
-    /// End-of-substep penetration resolve and contact friction bookkeeping.
-    pub resolve_seconds: f64,
-    /// Collider hashes rebuilt / reused.
-    pub rebuilds: u32,
-    pub reuses: u32,
-    /// Collider triangles filed / culled in the last substep (all colliders).
-    pub triangles_kept: usize,
-    pub triangles_culled: usize,
-    /// Particles touching a mesh collider at the end of the step.
-    pub mesh_contacts: usize,
-    /// Overlapping cloth pairs corrected by the last self-collision pass.
-    pub self_pairs: usize,
-    /// Hash searches of the self-collision passes (a search serves passes until a particle
-    /// has moved half the search margin).
-    pub self_searches: u32,
-}
-
-/// Quality of the current state (see `collision::metrics`).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct QualityMetrics {
-    /// Cloth particles inside the closed collider asked for (0 without one).
-    pub penetration_count: usize,
-    /// Deepest such particle, metres.
-    pub penetration_max_depth: f32,
-    /// Intersecting pairs of cloth triangles that share no vertex.
-    pub self_intersections: usize,
-    /// Largest sewn-pair distance, metres.
-    pub seam_gap: f32,
-    /// Max and mean `|ℓ/ℓ₀ − 1|` over the cloth edges (rest lengths from the 2D pattern).
-    pub strain_max: f32,
-    pub strain_mean: f32,
-    /// `½ Σ m v²`, joules.
-    pub kinetic_energy: f64,
-    /// Number of cloth particles.
-    pub particles: usize,
-    /// Mean position of the cloth particles, metres.
-    pub centroid: [f32; 3],
-    /// Share of the cloth particles within [`ON_BODY_DISTANCE`] of the collider's surface
-    /// (`None` without a collider).
-    pub on_body_fraction: Option<f32>,
-    /// Area-weighted centroid of the collider's surface (`None` without a collider): the
-    /// body's own motion, which [`verdict::centroid_shift`] takes out of the cloth's.
-    pub collider_centroid: Option<[f32; 3]>,
-    /// Whether some seam is still closing ([`Simulation::seams_closing`]): the garment is
-    /// still being assembled.
-    pub seams_closing: bool,
-}
-
 /// Collision state of a simulation.
 #[derive(Debug, Default)]
 pub(crate) struct Collisions {
@@ -135,18 +59,18 @@ pub(crate) struct Collisions {
     pub(crate) levels: Vec<i32>,
     pub(crate) friction: Option<(Vec<f32>, Vec<f32>)>,
     pub self_settings: SelfCollisionSettings,
-    self_state: SelfCollide,
+    pub(crate) self_state: SelfCollide,
     pub skips: CollisionSkips,
     /// Mesh contact of each particle: (triangle, barycentrics) on collider `ContactSet::collider`.
-    contact_tri: Vec<u32>,
-    contact_bary: Vec<[f32; 3]>,
-    alpha: f32,
+    pub(crate) contact_tri: Vec<u32>,
+    pub(crate) contact_bary: Vec<[f32; 3]>,
+    pub(crate) alpha: f32,
     frame_dt: f32,
     pub stats: CollisionStats,
     /// Another backend began this frame (`begin_frame`) and then handed it to the CPU: the
     /// CPU step must not begin it again.
     pub(crate) frame_begun: bool,
-    /// Particles the body holds while seams close (`closing_hold.rs`), and whether this
+    /// Particles the body holds while seams close (`simulation/closing_hold.rs`), and whether this
     /// closing phase has placed them.
     pub(crate) holds: Vec<u32>,
     pub(crate) holds_placed: bool,
@@ -191,446 +115,10 @@ impl Collisions {
         self.self_state.invalidate();
     }
 
-    fn particle_friction(&self, i: usize, default: (f32, f32)) -> (f32, f32) {
+    pub(crate) fn particle_friction(&self, i: usize, default: (f32, f32)) -> (f32, f32) {
         match &self.friction {
             Some((s, k)) => (s[i], k[i]),
             None => default,
-        }
-    }
-}
-
-/// Box of the positions `a ∪ b`.
-fn box_of(a: &super::soa::Vec3Soa, b: &super::soa::Vec3Soa) -> (Vec3, Vec3) {
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for s in [a, b] {
-        for i in 0..s.len() {
-            let p = s.get(i);
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    (lo, hi)
-}
-
-fn check_coefficients(name: &'static str, v: &[f32], n: usize) -> Result<()> {
-    if v.len() != n {
-        return Err(TailorError::shape(name, format!("{} values for {n} particles", v.len())));
-    }
-    if let Some((i, &bad)) = v.iter().enumerate().find(|(_, &c)| !(c.is_finite() && c >= 0.0)) {
-        return Err(TailorError::setting(name, bad, format!("particle {i}: friction must be finite and non-negative")));
-    }
-    Ok(())
-}
-
-impl Simulation {
-    // ----- public API -----
-
-    /// Adds an animated mesh collider (outward-facing triangles). Positions follow with
-    /// [`set_collider_positions`](Self::set_collider_positions), once per frame.
-    pub fn add_mesh_collider(
-        &mut self,
-        vertices: &[[f32; 3]],
-        triangles: &[[u32; 3]],
-        options: MeshColliderOptions,
-    ) -> Result<ColliderId> {
-        self.sleep.wake();
-        let m = MeshCollider::new(vertices, triangles, options)?;
-        self.collide.meshes.push(m);
-        Ok(ColliderId(self.collide.meshes.len() as u32 - 1))
-    }
-
-    pub fn num_mesh_colliders(&self) -> usize {
-        self.collide.meshes.len()
-    }
-
-    fn mesh(&self, id: ColliderId) -> Result<&MeshCollider> {
-        let n = self.collide.meshes.len();
-        self.collide
-            .meshes
-            .get(id.0 as usize)
-            .ok_or_else(|| TailorError::index("collider id", id.0 as i64, n, "mesh colliders"))
-    }
-
-    fn mesh_mut(&mut self, id: ColliderId) -> Result<&mut MeshCollider> {
-        self.mesh(id)?;
-        Ok(&mut self.collide.meshes[id.0 as usize])
-    }
-
-    /// The collider's vertex positions at the end of the next `step` (the solver interpolates
-    /// from the previous ones across the substeps).
-    pub fn set_collider_positions(&mut self, id: ColliderId, positions: &[[f32; 3]]) -> Result<()> {
-        self.mesh_mut(id)?.set_positions(positions)
-    }
-
-    /// Collider positions of the last substep run (interpolated within the frame).
-    pub fn collider_positions(&self, id: ColliderId) -> Result<&[[f32; 3]]> {
-        Ok(&self.mesh(id)?.cur)
-    }
-
-    pub fn collider_triangles(&self, id: ColliderId) -> Result<&[[u32; 3]]> {
-        Ok(&self.mesh(id)?.tris)
-    }
-
-    /// Collision levels of a collider, per vertex or per triangle (see [`levels`]).
-    pub fn set_collider_levels(&mut self, id: ColliderId, levels: &[i32]) -> Result<()> {
-        levels::check_levels("collider levels", levels)?;
-        self.sleep.wake();
-        self.mesh_mut(id)?.set_levels(levels)
-    }
-
-    /// Default friction of particles touching this collider.
-    pub fn set_collider_friction(&mut self, id: ColliderId, static_friction: f32, kinetic_friction: f32) -> Result<()> {
-        self.sleep.wake();
-        super::settings::non_negative("static_friction", static_friction)?;
-        super::settings::non_negative("kinetic_friction", kinetic_friction)?;
-        let m = self.mesh_mut(id)?;
-        m.opts.static_friction = static_friction;
-        m.opts.kinetic_friction = kinetic_friction;
-        Ok(())
-    }
-
-    /// Collision level per cloth particle (see [`levels`]).
-    pub fn set_particle_levels(&mut self, levels: &[i32]) -> Result<()> {
-        levels::check_levels("particle levels", levels)?;
-        self.sleep.wake();
-        if levels.len() != self.num_particles() {
-            return Err(TailorError::shape(
-                "particle levels",
-                format!("{} levels for {} particles", levels.len(), self.num_particles()),
-            ));
-        }
-        self.collide.levels = levels.to_vec();
-        self.collide.self_state.forget_pairs();
-        Ok(())
-    }
-
-    pub fn particle_levels(&self) -> &[i32] {
-        &self.collide.levels
-    }
-
-    /// Per-particle static and kinetic friction, used for mesh contacts and cloth-cloth pairs
-    /// instead of the colliders' and self-collision defaults; `None` restores the defaults.
-    pub fn set_particle_friction(&mut self, coefficients: Option<(&[f32], &[f32])>) -> Result<()> {
-        self.sleep.wake();
-        let n = self.num_particles();
-        self.collide.friction = match coefficients {
-            Some((s, k)) => {
-                check_coefficients("static_friction", s, n)?;
-                check_coefficients("kinetic_friction", k, n)?;
-                Some((s.to_vec(), k.to_vec()))
-            }
-            None => None,
-        };
-        Ok(())
-    }
-
-    pub fn set_self_collision(&mut self, s: SelfCollisionSettings) -> Result<()> {
-        self.sleep.wake();
-        s.validate()?;
-        self.collide.self_settings = s;
-        Ok(())
-    }
-
-    pub fn self_collision(&self) -> SelfCollisionSettings {
-        self.collide.self_settings
-    }
-
-    /// Switches the scene's collision skips (benchmarks and equivalence tests).
-    pub fn set_collision_skips(&mut self, skips: CollisionSkips) {
-        self.sleep.wake();
-        self.collide.skips = skips;
-    }
-
-    /// Self-collision sphere radius in effect.
-    pub fn self_collision_radius(&self) -> f32 {
-        self.collide.self_settings.radius.unwrap_or(0.5 * self.model.mesh.mean_edge_length() as f32)
-    }
-
-    /// Quality of the current state; `collider` names a closed mesh collider for the
-    /// penetration count (at its current positions).
-    pub fn metrics(&self, collider: Option<ColliderId>) -> Result<QualityMetrics> {
-        let pos = self.positions().to_aos();
-        let mesh = &self.model.mesh;
-        let mut q = QualityMetrics::default();
-        if let Some(id) = collider {
-            let m = self.mesh(id)?;
-            let body = ClosedMesh::new(&m.cur, &m.tris)?;
-            let pen = body.penetration(&pos);
-            q.penetration_count = pen.count;
-            q.penetration_max_depth = pen.max_depth;
-            q.on_body_fraction = Some(on_body_fraction(&pos, &body, ON_BODY_DISTANCE));
-            q.collider_centroid = Some(body.surface_centroid());
-        }
-        q.particles = pos.len();
-        q.centroid = centroid(&pos);
-        q.seams_closing = self.seams_closing();
-        q.self_intersections = count_self_intersections(&pos, mesh.triangles())?;
-        q.seam_gap = self.seam_gaps().0;
-        let edges = &mesh.topology().edges;
-        let rest = mesh.rest();
-        let rest_len: Vec<f32> = edges
-            .iter()
-            .map(|&[a, b]| {
-                let (p, r) = (rest[a as usize], rest[b as usize]);
-                ((p[0] - r[0]).hypot(p[1] - r[1])).max(1e-12)
-            })
-            .collect();
-        let s = edge_strain(&pos, edges, &rest_len)?;
-        (q.strain_max, q.strain_mean) = (s.max, s.mean);
-        let v = self.velocities();
-        q.kinetic_energy = kinetic_energy_soa(&v.x, &v.y, &v.z, self.masses())?;
-        Ok(q)
-    }
-
-    // ----- solver hooks -----
-
-    /// After the prediction: this substep's collider positions and hashes.
-    pub(crate) fn prepare_mesh_collisions(&mut self) {
-        if self.collide.meshes.is_empty() {
-            return;
-        }
-        let t0 = Instant::now();
-        let cloth = box_of(&self.x_start, &self.y);
-        let c = &mut self.collide;
-        let (alpha, skips) = (c.alpha, c.skips);
-        let (mut kept, mut culled) = (0, 0);
-        for m in &mut c.meshes {
-            let out = m.prepare(alpha, cloth, !skips.reuse_still_colliders, skips.cull_far_triangles);
-            if out.rebuilt {
-                c.stats.rebuilds += 1;
-            } else {
-                c.stats.reuses += 1;
-            }
-            kept += out.kept;
-            culled += out.culled;
-        }
-        (c.stats.triangles_kept, c.stats.triangles_culled) = (kept, culled);
-        c.stats.hash_seconds += t0.elapsed().as_secs_f64();
-    }
-
-    /// The deepest mesh contact of every particle at the current positions:
-    /// `(collider, contact)`, `None` for pinned or free particles.
-    /// With `crossings`, a particle whose motion since the substep's start passed through the
-    /// front of a triangle gets that contact instead ([`MeshCollider::crossing`]): the side
-    /// it came from, however deep it went.
-    fn find_mesh_contacts(&self, crossings: bool) -> Vec<Option<(u32, crate::collision::Contact)>> {
-        let (x, x0, meshes, levels, pinned, th) =
-            (&self.x, &self.x_start, &self.collide.meshes, &self.collide.levels, &self.model.pinned, self.thickness);
-        (0..x.len())
-            .into_par_iter()
-            .with_min_len(512)
-            .map(|i| {
-                if pinned[i] {
-                    return None;
-                }
-                let p = x.get(i);
-                let mut best: Option<(u32, crate::collision::Contact)> = None;
-                if crossings {
-                    let from = x0.get(i);
-                    for (c, m) in meshes.iter().enumerate() {
-                        if let Some(hit) = m.crossing(from, p, levels[i], th) {
-                            if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
-                                best = Some((c as u32, hit));
-                            }
-                        }
-                    }
-                    if best.is_some() {
-                        return best;
-                    }
-                }
-                for (c, m) in meshes.iter().enumerate() {
-                    if let Some(hit) = m.contact(p, levels[i], th) {
-                        if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
-                            best = Some((c as u32, hit));
-                        }
-                    }
-                }
-                best
-            })
-            .collect()
-    }
-
-    /// In the local step, after the analytic colliders: mesh contacts into the `ContactSet`
-    /// (an analytic contact already found for a particle is kept).
-    pub(crate) fn detect_mesh_contacts(&mut self) {
-        if self.collide.meshes.is_empty() {
-            return;
-        }
-        let t0 = Instant::now();
-        let found = self.find_mesh_contacts(false);
-        for (i, hit) in found.into_iter().enumerate() {
-            let cs = &mut self.contacts;
-            let analytic = cs.weight[i] > 0.0 && cs.collider[i] & MESH_CONTACT == 0;
-            if analytic {
-                continue;
-            }
-            match hit {
-                Some((c, h)) => {
-                    cs.weight[i] = CONTACT_WEIGHT_FACTOR * self.diag[i];
-                    cs.target.set(i, h.target);
-                    cs.normal.set(i, h.normal);
-                    cs.collider[i] = MESH_CONTACT | c;
-                    self.collide.contact_tri[i] = h.triangle;
-                    self.collide.contact_bary[i] = h.bary;
-                }
-                None => {
-                    cs.weight[i] = 0.0;
-                    cs.collider[i] = u32::MAX;
-                }
-            }
-        }
-        self.collide.stats.contact_seconds += t0.elapsed().as_secs_f64();
-    }
-
-    /// After each iteration's global step: the self-collision pass.
-    pub(crate) fn self_collide_iteration(&mut self) {
-        let s = self.collide.self_settings;
-        if !s.enabled {
-            return;
-        }
-        let t0 = Instant::now();
-        let radius = self.self_collision_radius();
-        let cell = (self.model.mesh.mean_edge_length() as f32).max(2.0 * radius);
-        let c = &mut self.collide;
-        let friction = c.friction.as_ref().map(|(a, b)| (a.as_slice(), b.as_slice()));
-        let fr = move |i: usize| match friction {
-            Some((a, b)) => (a[i], b[i]),
-            None => (s.static_friction, s.kinetic_friction),
-        };
-        let inp = PassInput {
-            model: &self.model,
-            levels: &c.levels,
-            x_start: &self.x_start,
-            radius,
-            cell,
-            friction: &fr,
-            reuse: c.skips.reuse_self_pairs,
-        };
-        c.self_state.pass(&inp, &mut self.x);
-        c.stats.self_pairs = c.self_state.last_pairs;
-        c.stats.self_searches += std::mem::take(&mut c.self_state.searches);
-        c.stats.self_seconds += t0.elapsed().as_secs_f64();
-    }
-
-    /// At the end of the substep, before velocities: particles still behind a mesh collider go
-    /// to their target (so no substep ends inside), then Coulomb friction acts on every mesh
-    /// contact of the substep. A particle whose motion over the substep passed through the
-    /// front of a triangle goes back out on that side, whatever its nearest surface now: a
-    /// seam closing round a limb otherwise drags its edge through the limb (the samples'
-    /// sleeves: up to 39 mm deep).
-    ///
-    /// Friction is applied to positions (Macklin et al. 2014, Eq. 24), on the particle's
-    /// displacement over the substep relative to the triangle's (its velocity at the contact's
-    /// barycentric point times `h`): the tangential part is removed when under `μs·d`, else
-    /// shortened by `μk·d`, where `d` is the normal impulse divided by `m/h`: the larger of
-    /// `(x − y)·n`, how far the contact pushed the particle out of its free-flight prediction,
-    /// and the contact's own push against the cloth ([`Self::contact_pushes`]). This is
-    /// Coulomb's law on the relative velocity `Δx/h`; doing it on velocities only would let a
-    /// resting particle creep `g·h²·sin θ` per substep down a slope steeper than nothing.
-    pub(crate) fn resolve_mesh_penetrations(&mut self, h: f32) {
-        if self.collide.meshes.is_empty() {
-            return;
-        }
-        let t0 = Instant::now();
-        let found = self.find_mesh_contacts(true);
-        for (i, hit) in found.into_iter().enumerate() {
-            if let Some((c, h)) = hit {
-                if self.contacts.weight[i] > 0.0 && self.contacts.collider[i] & MESH_CONTACT == 0 {
-                    continue;
-                }
-                self.x.set(i, h.target);
-                self.contacts.normal.set(i, h.normal);
-                self.contacts.collider[i] = MESH_CONTACT | c;
-                self.collide.contact_tri[i] = h.triangle;
-                self.collide.contact_bary[i] = h.bary;
-            }
-        }
-        let mut contacts = 0;
-        let mut corrected = Vec::new();
-        for i in 0..self.x.len() {
-            let c = self.contacts.collider[i];
-            if c == u32::MAX || c & MESH_CONTACT == 0 {
-                continue;
-            }
-            contacts += 1;
-            corrected.push(i as u32);
-            let m = &self.collide.meshes[(c & !MESH_CONTACT) as usize];
-            let n = self.contacts.normal.get(i);
-            let x = self.x.get(i);
-            let d = (x - self.y.get(i)).dot(n).max(self.collide.pushes[i]);
-            if d <= 0.0 {
-                continue;
-            }
-            let vc = m.velocity_at(self.collide.contact_tri[i], self.collide.contact_bary[i]);
-            let rel = x - self.x_start.get(i) - vc * h;
-            let rel_t = rel - n * rel.dot(n);
-            let lt = rel_t.length();
-            let (mu_s, mu_k) = self.collide.particle_friction(i, (m.opts.static_friction, m.opts.kinetic_friction));
-            if lt <= mu_s * d {
-                self.x.set(i, x - rel_t);
-            } else {
-                self.x.set(i, x - rel_t * (mu_k * d / lt).min(1.0));
-            }
-        }
-        self.keep_corrections_in_front(&corrected);
-        self.collide.stats.mesh_contacts = contacts;
-        self.collide.stats.resolve_seconds += t0.elapsed().as_secs_f64();
-    }
-
-    /// The normal push of each particle's contact over the substep as a displacement, m: the
-    /// contact's force in the last local/global iteration, `w·((p − x)·n)` (its penalty weight
-    /// times how far the solve left the particle behind its target), times `h²/m`. It is what
-    /// the body pushes back against everything that presses the particle into it: gravity and
-    /// inertia, and the cloth's own tension, as a waistband's round the hips or a shirt's over
-    /// the shoulders. `(x − y)·n` alone (the contact's net effect on free flight) sees only
-    /// the first: where tension presses the cloth on and the body holds it, the two cancel,
-    /// and such contacts had no friction at all: the GarmentCode flared skirt's waistband slid
-    /// over the hips under 1 N of skirt even at friction 2, and fell to the floor.
-    /// Zero while the seams close (see there), and on sewn particles (`Model::sewn`):
-    /// a seam's two sides are one line of the garment, and the body's grip on them held the
-    /// last millimetres open against the seam (the sample skirt's waistband side seams 1.9 mm,
-    /// the T-shirt's 2.6 mm at worst; 0.5 and 0.25 mm without it). The cloth round a seam
-    /// still holds the garment.
-    /// Fills `collide.pushes` (reused, no allocation once warm).
-    pub(crate) fn contact_pushes(&mut self, h: f32) {
-        let mut push = std::mem::take(&mut self.collide.pushes);
-        push.clear();
-        let closing = self.ramp_closing();
-        let (cs, x, mass, sewn) = (&self.contacts, &self.x, &self.model.mass, &self.model.sewn);
-        push.extend((0..x.len()).map(|i| {
-            // While seams close their pull is an assembly force: what it presses onto the body
-            // must slide there, as pieces slide into place over shoulders and hips.
-            if closing || cs.weight[i] <= 0.0 || cs.collider[i] == u32::MAX || sewn[i] {
-                return 0.0;
-            }
-            let behind = (cs.target.get(i) - x.get(i)).dot(cs.normal.get(i)).max(0.0);
-            cs.weight[i] * behind * h * h / mass[i].max(f32::MIN_POSITIVE)
-        }));
-        self.collide.pushes = push;
-    }
-
-    /// A correction must not leave a particle behind a surface that its path from the
-    /// substep's start crosses. The push out of a triangle goes along that triangle's normal,
-    /// keeping the motion along it, and friction moves the particle in that triangle's plane;
-    /// in a crease (the armpit, where the arm's underside faces the chest) either can land it
-    /// behind the other side, where nothing sees it: the particle-vs-cell test finds it in
-    /// front of that side's triangles in its cell, and the next substep starts inside.
-    /// Such a particle stays where the substep began (its path from there crossed nothing
-    /// when the substep began; the cloth's constraints move it on in the next one).
-    fn keep_corrections_in_front(&mut self, corrected: &[u32]) {
-        let (x0, meshes, levels, th) = (&self.x_start, &self.collide.meshes, &self.collide.levels, self.thickness);
-        let x = &self.x;
-        let back: Vec<u32> = corrected
-            .par_iter()
-            .with_min_len(256)
-            .copied()
-            .filter(|&i| {
-                let (from, to) = (x0.get(i as usize), x.get(i as usize));
-                meshes.iter().any(|m| m.crossing(from, to, levels[i as usize], th).is_some())
-            })
-            .collect();
-        for i in back {
-            self.x.set(i as usize, self.x_start.get(i as usize));
         }
     }
 }

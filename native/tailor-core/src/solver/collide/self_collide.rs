@@ -28,8 +28,8 @@ use glam::Vec3;
 use super::levels::levels_collide;
 use crate::collision::self_collision::{ExclusionSet, SelfCollision};
 use crate::error::{Result, TailorError};
+use crate::solver::model::soa::Vec3Soa;
 use crate::solver::model::Model;
-use crate::solver::soa::Vec3Soa;
 
 /// Self-collision settings. Off by default: a single-layer garment does not need the pass, and
 /// near a closing seam the spheres of the two sides fight the seam (measured on the demo sleeve:
@@ -61,7 +61,7 @@ impl SelfCollisionSettings {
             ("self_collision.static_friction", self.static_friction),
             ("self_collision.kinetic_friction", self.kinetic_friction),
         ] {
-            crate::solver::settings::non_negative(name, v)?;
+            crate::solver::model::settings::non_negative(name, v)?;
         }
         Ok(())
     }

@@ -19,8 +19,8 @@
 
 use glam::Vec3;
 
+use super::metrics::ON_BODY_DISTANCE;
 use super::QualityMetrics;
-use crate::collision::metrics::ON_BODY_DISTANCE;
 
 /// "fell": the cloth's centroid moved more than this from the frame it is judged against (the
 /// garment as sewn; relative to the body), metres.

@@ -12,7 +12,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::soa::Vec3Soa;
+use crate::solver::model::soa::Vec3Soa;
 
 /// An analytic collider with Coulomb friction coefficients.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,7 +94,7 @@ impl ContactSet {
 
     /// Heap bytes of the per-particle contact arrays.
     pub fn memory_bytes(&self) -> usize {
-        use super::soa::vec_bytes;
+        use crate::solver::model::soa::vec_bytes;
         vec_bytes(&self.weight) + self.target.memory_bytes() + self.normal.memory_bytes() + vec_bytes(&self.collider)
     }
 

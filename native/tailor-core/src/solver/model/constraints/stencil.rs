@@ -15,7 +15,7 @@
 
 use glam::Vec3;
 
-use crate::solver::soa::Vec3Soa;
+use crate::solver::model::soa::Vec3Soa;
 
 /// Stencil constraints in compressed rows: constraint `s` has terms `offsets[s]..offsets[s+1]`.
 #[derive(Debug, Clone)]
@@ -53,7 +53,7 @@ impl StencilSet {
 
     /// Heap bytes of the compressed rows.
     pub fn memory_bytes(&self) -> usize {
-        use crate::solver::soa::vec_bytes;
+        use crate::solver::model::soa::vec_bytes;
         vec_bytes(&self.offsets)
             + vec_bytes(&self.verts)
             + vec_bytes(&self.coefs)

@@ -29,7 +29,7 @@ impl Colouring {
 
     /// Heap bytes of the colours and the groups (the outer vector and each group).
     pub fn memory_bytes(&self) -> usize {
-        use super::soa::vec_bytes;
+        use crate::solver::model::soa::vec_bytes;
         vec_bytes(&self.colour) + vec_bytes(&self.groups) + self.groups.iter().map(vec_bytes).sum::<usize>()
     }
 }

@@ -17,9 +17,9 @@
 use glam::Vec3A;
 use rayon::prelude::*;
 
-use super::model::SweepRows;
-use super::soa::{SoaPtr, Vec3Soa};
-use super::system::SparseSym32;
+use crate::solver::model::soa::{SoaPtr, Vec3Soa};
+use crate::solver::model::system::SparseSym32;
+use crate::solver::model::SweepRows;
 
 /// Particles per parallel task; fixed so that partial sums have a fixed order.
 const CHUNK: usize = 256;

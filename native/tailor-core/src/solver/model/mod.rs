@@ -3,18 +3,34 @@
 //!
 //! Derived structures are rebuilt lazily, only when the constraint topology or weights change
 //! (seams, pins or attachments added, stiffness edited): never in the per-substep loop.
+//!
+//! This folder holds the solver's data, what is simulated and with which settings, apart from
+//! the stages that run on it:
+//!
+//! * [`Model`] (this file): masses, constraints and the derived global system;
+//! * [`constraints`]: the constraint kernels of the Projective Dynamics objective;
+//! * [`system`]: the sparse symmetric matrix `Σ w AᵀA` (f64, and its f32 copy the sweeps read);
+//! * [`colouring`]: the randomized graph colouring the parallel Gauss-Seidel sweeps follow;
+//! * [`soa`]: the structure-of-arrays vectors every stage works on;
+//! * [`settings`]: the fabric, the solver's settings and the presets, with validation.
+
+pub mod colouring;
+pub mod constraints;
+pub mod settings;
+pub mod soa;
+pub mod system;
 
 use crate::error::{Result, TailorError};
 use crate::mesh::ClothMesh;
 
-use super::colouring::{colour_graph, Colouring};
-use super::constraints::bending::{hinge_weights, HingeTriangle};
-use super::constraints::seam::BoundaryEdges;
-use super::constraints::triangle::strain_coefficients;
-use super::constraints::{Attachment, ColliderAttachment, Seam, StencilSet, TriangleSet};
-use super::settings::Fabric;
-use super::soa::{vec_bytes, Vec3Soa};
-use super::system::{SparseSym, SparseSym32};
+use self::colouring::{colour_graph, Colouring};
+use self::constraints::bending::{hinge_weights, HingeTriangle};
+use self::constraints::seam::BoundaryEdges;
+use self::constraints::triangle::strain_coefficients;
+use self::constraints::{Attachment, ColliderAttachment, Seam, StencilSet, TriangleSet};
+use self::settings::Fabric;
+use self::soa::{vec_bytes, Vec3Soa};
+use self::system::{SparseSym, SparseSym32};
 
 /// Where each constraint's right-hand-side contribution lands: triangles own slots `3t..3t+3`;
 /// stencils with a non-zero rest length ("curved": their projection is not constant) own one

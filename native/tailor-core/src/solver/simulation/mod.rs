@@ -1,10 +1,11 @@
 //! A running simulation: the model, the moving state, and the step.
 //!
-//! Each substep of length `h` runs these stages in order (timed separately):
+//! Each substep of length `h` walks [`STAGES`] in order, each stage timed into
+//! [`StageTimings`] (the table of what each runs is in [`stages`](crate::solver::stages)):
 //!
 //! 1. **prediction**: `y = x + h·v + h²·g`, pinned particles at their targets, the initial
 //!    guess `x = y`, and the fixed right-hand side `M/h²·y + b_const` plus the attachments
-//!    riding on mesh colliders (targets of this substep, `collide/attach.rs`);
+//!    riding on mesh colliders (targets of this substep, [`attach`]);
 //! 2. per iteration, **local**: contacts against colliders and constraint projections;
 //!    **global**: one Gauss-Seidel sweep over the colouring (or Jacobi), then Chebyshev
 //!    extrapolation; optional early stop on the relative residual;
@@ -12,6 +13,17 @@
 //!    contacts, air damping `exp(−c·h)` with `c` from the seam-closing ramp.
 //!
 //! A step whose result is not finite is rolled back and reported as an error.
+//!
+//! The simulation's methods are split by concern over this folder: collisions ([`colliders`],
+//! [`attach`], [`closing_hold`]), quality ([`metrics`]) and the read-only view other backends
+//! upload from ([`view`]). They are the only modules that use the solver's parts together;
+//! the parts (`model/`, `stages/`, `collide/`) never import the simulation.
+
+mod attach;
+mod closing_hold;
+mod colliders;
+mod metrics;
+pub(crate) mod view;
 
 use std::time::Instant;
 
@@ -19,21 +31,21 @@ use glam::{Vec3, Vec3A};
 
 use crate::error::{Result, TailorError};
 use crate::mesh::{check_finite3, ClothMesh};
+use crate::solver::collide::contacts::{coulomb, resolve_penetrations, ContactSet, ImplicitCollider};
+use crate::solver::collide::{Collisions, MESH_CONTACT};
+use crate::solver::model::constraints::{Attachment, Seam};
+use crate::solver::model::settings::{Fabric, Method, SolverSettings};
+use crate::solver::model::soa::Vec3Soa;
+use crate::solver::model::Model;
+use crate::solver::sleep::Sleep;
+use crate::solver::stages::chebyshev::Chebyshev;
+use crate::solver::stages::damping::{decay, Ramp, SeamGaps};
+use crate::solver::stages::global::{unpack, unpack_extrapolated, GlobalSystem, SweepNorms};
+use crate::solver::stages::local::project_all;
+use crate::solver::stages::{Stage, StageTimings, STAGES};
+use crate::solver::stats::StepStats;
 
-use super::chebyshev::Chebyshev;
-use super::collide::{Collisions, MESH_CONTACT};
-use super::constraints::{Attachment, Seam};
-use super::contacts::{coulomb, resolve_penetrations, ContactSet, ImplicitCollider};
-use super::damping::{decay, Ramp, SeamGaps};
-use super::global::{unpack, unpack_extrapolated, GlobalSystem, SweepNorms};
-use super::local::project_all;
-use super::model::Model;
-use super::settings::{Fabric, Method, SolverSettings};
-use super::sleep::Sleep;
-use super::soa::Vec3Soa;
-use super::stats::{StageTimings, StepStats};
-
-/// Power-iteration sweeps that measure Chebyshev's spectral radius (see `chebyshev.rs`).
+/// Power-iteration sweeps that measure Chebyshev's spectral radius (see `stages/chebyshev.rs`).
 const RHO_SWEEPS: u32 = 60;
 
 /// A cloth simulation.
@@ -103,7 +115,7 @@ impl Simulation {
             model,
             settings,
             colliders: Vec::new(),
-            thickness: super::settings::DEFAULT_THICKNESS,
+            thickness: crate::solver::model::settings::DEFAULT_THICKNESS,
             v: Vec3Soa::zeros(n),
             x_start: x.clone(),
             y: x.clone(),
@@ -160,7 +172,7 @@ impl Simulation {
     pub fn ramp_closing(&self) -> bool {
         self.settings.ramp.enabled
             && !self.model.seam_pairs.is_empty()
-            && self.ramp.phase == super::damping::RampPhase::Closing
+            && self.ramp.phase == crate::solver::stages::damping::RampPhase::Closing
     }
 
     /// Factor on gravity in effect now (`ramp.closing_gravity` while seams close, else 1).
@@ -178,7 +190,7 @@ impl Simulation {
     /// slots, contacts, pin targets, the free list, colliders). Counts `Vec` capacities, not
     /// allocator overhead or the fixed-size struct itself.
     pub fn memory_bytes(&self) -> usize {
-        use super::soa::vec_bytes;
+        use crate::solver::model::soa::vec_bytes;
         self.model.memory_bytes()
             + vec_bytes(&self.colliders)
             + [&self.x, &self.v, &self.x_start, &self.y, &self.x_prev_iter, &self.x_this_iter, &self.rhs_fixed]
@@ -272,7 +284,7 @@ impl Simulation {
             let pairs = &mut self.model.seam_pairs;
             for s in first..pairs.len() {
                 let gap = pairs.vector(s, &self.x).length();
-                pairs.rest[s] = if gap > super::constraints::stencil::FLAT_REST { gap } else { 0.0 };
+                pairs.rest[s] = if gap > crate::solver::model::constraints::stencil::FLAT_REST { gap } else { 0.0 };
                 self.seams_closing |= pairs.rest[s] > 0.0;
             }
             self.closing_gap0.resize(pairs.len(), 0.0);
@@ -345,7 +357,7 @@ impl Simulation {
         c.shape.validate()?;
         self.sleep.wake();
         for (name, v) in [("static_friction", c.static_friction), ("kinetic_friction", c.kinetic_friction)] {
-            super::settings::non_negative(name, v)?;
+            crate::solver::model::settings::non_negative(name, v)?;
         }
         self.colliders.push(c);
         Ok(())
@@ -354,7 +366,7 @@ impl Simulation {
     /// Collision thickness: particles are kept this far outside colliders, metres.
     pub fn set_thickness(&mut self, t: f32) -> Result<()> {
         self.sleep.wake();
-        super::settings::non_negative("thickness", t)?;
+        crate::solver::model::settings::non_negative("thickness", t)?;
         self.thickness = t;
         Ok(())
     }
@@ -505,7 +517,7 @@ impl Simulation {
             self.h_prepared = h;
             if self.settings.method == Method::Chebyshev && self.settings.chebyshev.rho.is_none() {
                 let m = &self.model;
-                self.cheb.rho_gs = Some(super::chebyshev::spectral_radius_gs(
+                self.cheb.rho_gs = Some(crate::solver::stages::chebyshev::spectral_radius_gs(
                     &m.matrix32,
                     &self.diag,
                     &m.colouring.groups,
@@ -641,8 +653,8 @@ impl Simulation {
             if detect {
                 self.self_collide_iteration();
             }
-            timings.local += (t1 - t0).as_secs_f64();
-            timings.global += t1.elapsed().as_secs_f64();
+            timings[Stage::Local] += (t1 - t0).as_secs_f64();
+            timings[Stage::Global] += t1.elapsed().as_secs_f64();
             if k == 0 {
                 r0 = norms.residual2.sqrt().max(1e-30);
             }
@@ -659,19 +671,33 @@ impl Simulation {
         out
     }
 
-    /// One substep of length `h`.
+    /// One substep of length `h`: the stages of [`STAGES`], in order.
     fn substep(&mut self, h: f32) -> (IterationOutcome, StageTimings) {
         let mut t = StageTimings::default();
-        let t0 = Instant::now();
-        self.prepare(h);
-        self.predict(h);
-        self.prepare_mesh_collisions();
-        t.prediction = t0.elapsed().as_secs_f64();
-        let (method, iters, tol) = (self.settings.method, self.settings.iterations, self.settings.tolerance);
-        let out = self.iterate(method, iters, tol, true, &mut t, |_, _| {});
-        let t2 = Instant::now();
-        self.finish_substep(h);
-        t.damping = t2.elapsed().as_secs_f64();
+        let mut out = IterationOutcome::default();
+        for stage in STAGES {
+            match stage {
+                Stage::Prediction => {
+                    let t0 = Instant::now();
+                    self.prepare(h);
+                    self.predict(h);
+                    self.prepare_mesh_collisions();
+                    t[stage] = t0.elapsed().as_secs_f64();
+                }
+                // The iterations alternate the local and the global stage (`iterate` times each).
+                Stage::Local => {
+                    let (method, iters, tol) =
+                        (self.settings.method, self.settings.iterations, self.settings.tolerance);
+                    out = self.iterate(method, iters, tol, true, &mut t, |_, _| {});
+                }
+                Stage::Global => {}
+                Stage::Damping => {
+                    let t0 = Instant::now();
+                    self.finish_substep(h);
+                    t[stage] = t0.elapsed().as_secs_f64();
+                }
+            }
+        }
         (out, t)
     }
 

@@ -11,10 +11,10 @@
 
 use glam::Vec3;
 
-use super::constraints::triangle;
-use super::local::project_all;
-use super::simulation::Simulation;
-use super::soa::Vec3Soa;
+use crate::solver::model::constraints::triangle;
+use crate::solver::model::soa::Vec3Soa;
+use crate::solver::simulation::Simulation;
+use crate::solver::stages::local::project_all;
 
 impl Simulation {
     /// `E(x)` of the current step problem (after `predict`).

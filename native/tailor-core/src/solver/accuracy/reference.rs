@@ -9,11 +9,11 @@
 
 use std::time::Instant;
 
-use super::cholesky::{reverse_cuthill_mckee, Skyline};
-use super::local::project_all;
-use super::simulation::Simulation;
-use super::soa::Vec3Soa;
 use crate::error::Result;
+use crate::solver::accuracy::cholesky::{reverse_cuthill_mckee, Skyline};
+use crate::solver::model::soa::Vec3Soa;
+use crate::solver::simulation::Simulation;
+use crate::solver::stages::local::project_all;
 
 /// How the reference iteration stopped.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,14 +1,15 @@
 //! A read-only view of a prepared simulation for other backends (the GPU solver uploads from
 //! it), and the narrow write-back they need to hand their state back to the CPU.
 //!
-//! Kept apart from `simulation.rs` so that the CPU step does not grow backend concerns.
+//! Kept apart from the step (`simulation/mod.rs`) so that the CPU step does not grow backend
+//! concerns.
 
-use super::contacts::ImplicitCollider;
-use super::damping::RampPhase;
-use super::model::Model;
-use super::settings::SolverSettings;
-use super::simulation::Simulation;
-use super::soa::Vec3Soa;
+use crate::solver::collide::contacts::ImplicitCollider;
+use crate::solver::model::settings::SolverSettings;
+use crate::solver::model::soa::Vec3Soa;
+use crate::solver::model::Model;
+use crate::solver::simulation::Simulation;
+use crate::solver::stages::damping::RampPhase;
 
 /// Everything a backend needs to run the same substeps as [`Simulation::step`].
 pub struct SolverView<'a> {
@@ -29,7 +30,7 @@ pub struct SolverView<'a> {
     pub thickness: f32,
     /// Mesh colliders, levels, friction and self-collision settings.
     #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
-    pub(crate) collide: &'a super::collide::Collisions,
+    pub(crate) collide: &'a crate::solver::collide::Collisions,
     /// Self-collision sphere radius and hash cell side in effect, metres.
     pub self_radius: f32,
     pub self_cell: f32,
@@ -43,7 +44,7 @@ impl Simulation {
         let self_radius = self.self_collision_radius();
         let self_cell = (self.model.mesh.mean_edge_length() as f32).max(2.0 * self_radius);
         let rho = match self.settings.method {
-            super::settings::Method::Chebyshev => self.cheb.rho(&self.settings.chebyshev),
+            crate::solver::model::settings::Method::Chebyshev => self.cheb.rho(&self.settings.chebyshev),
             _ => 0.0,
         };
         SolverView {

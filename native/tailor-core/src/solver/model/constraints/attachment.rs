@@ -13,7 +13,7 @@ pub struct Attachment {
 
 /// A soft attachment whose target rides on a mesh collider (a pinned waistband on a walking
 /// body): the same energy `w/2·‖xᵢ − t‖²`, with `t` recomputed every substep from the
-/// collider's positions of that substep (see `solver/collide/attach.rs`):
+/// collider's positions of that substep (see `solver/simulation/attach.rs`):
 ///
 /// `t = Σₖ bₖ·vₖ + F·o`, where `v₀, v₁, v₂` are the bound triangle's vertices, `b` the
 /// barycentric coordinates of the surface point nearest the particle when it was attached,

@@ -4,8 +4,8 @@
 //! (every distance test against NaN is false): the cloth fell through what the caller believed
 //! was a body. Each field is checked and named instead.
 
-use super::contacts::Shape;
 use crate::error::{Result, TailorError};
+use crate::solver::collide::contacts::Shape;
 
 /// The largest coordinate or radius accepted, metres: far beyond any scene, small enough that
 /// squared distances stay finite in f32.

@@ -1,12 +1,14 @@
-//! One interface over the CPU and GPU backends: [`Solver`] owns a [`Simulation`] and steps it
-//! on the backend [`Backend`] asks for, falling back to the CPU (never failing) when the GPU
-//! cannot run the scene, with the reason in [`StepStats::warning`].
+//! The backend facade: one interface over the CPU solver ([`crate::solver`]) and the GPU
+//! backend (`crate::gpu`, feature `gpu`). [`Solver`] owns a [`Simulation`] and steps it on the
+//! backend [`Backend`] asks for, falling back to the CPU (never failing) when the GPU cannot run
+//! the scene, with the reason in [`StepStats::warning`].
+//!
+//! It sits above both backends, so that neither imports it and the CPU solver never imports
+//! the GPU one (`tests/layers.rs`): `engine` → `gpu` → `solver`.
 
 use crate::error::Result;
-
-use super::simulation::Simulation;
-use super::soa::Vec3Soa;
-use super::stats::{ActiveBackend, StepStats};
+use crate::quality::QualityMetrics;
+use crate::solver::{ActiveBackend, ColliderId, Simulation, StepStats, Vec3Soa};
 
 /// Which backend steps the simulation.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -96,7 +98,7 @@ impl Solver {
 
     /// Quality metrics of the current state (see [`Simulation::metrics`]), with the
     /// velocities brought back from the GPU first.
-    pub fn metrics(&mut self, collider: Option<super::collide::ColliderId>) -> Result<super::collide::QualityMetrics> {
+    pub fn metrics(&mut self, collider: Option<ColliderId>) -> Result<QualityMetrics> {
         self.sync_from_gpu();
         self.sim.metrics(collider)
     }
@@ -193,7 +195,7 @@ impl Solver {
     /// The positions of a mesh collider at the end of the next step (the per-frame input of
     /// an animated character): on the GPU only these go up, once per frame, with no
     /// re-upload of the model (unlike [`Solver::edit`]).
-    pub fn set_collider_positions(&mut self, id: super::collide::ColliderId, positions: &[[f32; 3]]) -> Result<()> {
+    pub fn set_collider_positions(&mut self, id: ColliderId, positions: &[[f32; 3]]) -> Result<()> {
         self.sim.set_collider_positions(id, positions)
     }
 

@@ -47,7 +47,7 @@ impl TriangleSet {
 
     /// Heap bytes of the per-triangle arrays.
     pub fn memory_bytes(&self) -> usize {
-        use crate::solver::soa::vec_bytes;
+        use crate::solver::model::soa::vec_bytes;
         vec_bytes(&self.verts) + vec_bytes(&self.g) + vec_bytes(&self.w_stretch) + vec_bytes(&self.w_shear)
     }
 }

@@ -14,12 +14,12 @@
 
 use std::time::Instant;
 
-use super::reference::ReferenceInfo;
-use super::settings::Method;
-use super::simulation::Simulation;
-use super::soa::Vec3Soa;
-use super::stats::StageTimings;
 use crate::error::{Result, TailorError};
+use crate::solver::accuracy::reference::ReferenceInfo;
+use crate::solver::model::settings::Method;
+use crate::solver::model::soa::Vec3Soa;
+use crate::solver::simulation::Simulation;
+use crate::solver::stages::StageTimings;
 
 /// The three error measures of one iterate.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -6,9 +6,9 @@
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::constraints::{stencil, triangle};
-use super::model::Model;
-use super::soa::Vec3Soa;
+use crate::solver::model::constraints::{stencil, triangle};
+use crate::solver::model::soa::Vec3Soa;
+use crate::solver::model::Model;
 
 /// Triangles per parallel task of the local step.
 const TRI_BLOCK: usize = 512;

@@ -24,11 +24,11 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::mesh_collider::MeshCollider;
-use super::ColliderId;
 use crate::collision::geometry::{closest_point_on_triangle, triangle_normal};
 use crate::error::{Result, TailorError};
-use crate::solver::constraints::ColliderAttachment;
+use crate::solver::collide::mesh_collider::MeshCollider;
+use crate::solver::collide::ColliderId;
+use crate::solver::model::constraints::ColliderAttachment;
 use crate::solver::simulation::Simulation;
 
 /// The orthonormal frame `(ê, n̂, n̂ × ê)` of triangle `abc`; `None` when it has no area.

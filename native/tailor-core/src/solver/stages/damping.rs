@@ -15,7 +15,7 @@
 //! also releases when the widest gap has stopped shrinking (by [`STALL_SHRINK`] over
 //! [`STALL_TIME`]).
 
-use super::settings::SolverSettings;
+use crate::solver::model::settings::SolverSettings;
 
 /// Where the ramp is.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

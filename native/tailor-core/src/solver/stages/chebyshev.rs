@@ -27,8 +27,8 @@
 
 use rayon::prelude::*;
 
-use super::settings::ChebyshevSettings;
-use super::system::SparseSym32;
+use crate::solver::model::settings::ChebyshevSettings;
+use crate::solver::model::system::SparseSym32;
 
 /// Per-simulation Chebyshev state.
 #[derive(Debug, Clone, Default)]

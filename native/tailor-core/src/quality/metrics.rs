@@ -12,9 +12,9 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::closed_mesh::{aabb_cell_size, ClosedMesh, Penetration};
-use super::collider_hash::{aabb_cells, ColliderHash, InsertionRule};
-use super::intersect::triangles_intersect;
+use crate::collision::closed_mesh::{aabb_cell_size, ClosedMesh, Penetration};
+use crate::collision::collider_hash::{aabb_cells, ColliderHash, InsertionRule};
+use crate::collision::intersect::triangles_intersect;
 use crate::error::{Result, TailorError};
 
 /// Penetration of `points` into the closed mesh `(vertices, triangles)`: count and largest

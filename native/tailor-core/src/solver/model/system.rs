@@ -7,8 +7,8 @@
 //! rows for the real-time sweep (the reference solver assembles its own f64 copy). Its
 //! off-diagonal pattern is the graph the colouring separates.
 
-use super::constraints::{StencilSet, TriangleSet};
-use super::soa::vec_bytes;
+use crate::solver::model::constraints::{StencilSet, TriangleSet};
+use crate::solver::model::soa::vec_bytes;
 
 /// Symmetric sparse matrix: diagonal plus off-diagonal entries by row (both triangles stored).
 #[derive(Debug, Clone, Default)]

@@ -18,9 +18,9 @@
 
 use rayon::prelude::*;
 
-use super::ColliderId;
 use crate::collision::ClosedMesh;
 use crate::error::{Result, TailorError};
+use crate::solver::collide::ColliderId;
 use crate::solver::simulation::Simulation;
 
 impl Simulation {

@@ -98,7 +98,7 @@ pub struct SeamRamp {
     /// Stiffness, N/m per particle, with which the body holds the cloth near it while seams
     /// close (phase `Closing`; 0 = no hold). When closing starts, every particle within
     /// `closing_hold_distance` of a mesh collider's surface is attached to it (as a painted pin
-    /// rides on the body, `collide/attach.rs`); the holds go when the ramp releases. Why: with
+    /// rides on the body, `simulation/attach.rs`); the holds go when the ramp releases. Why: with
     /// gravity held, nothing but the solver's arbitrary split decides which side of a seam
     /// moves, and a heavy part placed away from the body drags the part that fits it: the
     /// tiers of a GarmentCode tiered skirt, laid flat in rings round its waistband, dragged the
@@ -129,7 +129,7 @@ impl Default for SeamRamp {
     }
 }
 
-/// Chebyshev acceleration parameters (see `chebyshev.rs` for the spectral-radius rule).
+/// Chebyshev acceleration parameters (see `stages/chebyshev.rs` for the spectral-radius rule).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChebyshevSettings {
     /// Plain Gauss-Seidel iterations at the start of each substep before acceleration starts;

@@ -11,8 +11,8 @@
 //!   collide/     contacts and collisions: analytic shapes, mesh colliders, self-collision, levels
 //!   stats.rs     what a step reports (StepStats, CollisionStats; timings per stage)
 //!   sleep.rs     when a cloth at rest stops being solved
-//!   simulation/  Simulation: the state and the step that walks STAGES; the hooks that run
-//!                collide/ inside the stages; the view the GPU backend uploads from
+//!   simulation/  Simulation: the state, and the step that walks STAGES (step.rs); the hooks
+//!                that run collide/ inside the stages; the view the GPU backend uploads from
 //!   accuracy/    the reference solver and the error measures (tests and benchmarks)
 //! ```
 //!

@@ -1,8 +1,7 @@
 //! A read-only view of a prepared simulation for other backends (the GPU solver uploads from
 //! it), and the narrow write-back they need to hand their state back to the CPU.
 //!
-//! Kept apart from the step (`simulation/mod.rs`) so that the CPU step does not grow backend
-//! concerns.
+//! Kept apart from the step (`step.rs`) so that the CPU step does not grow backend concerns.
 
 use crate::solver::collide::contacts::ImplicitCollider;
 use crate::solver::model::settings::SolverSettings;

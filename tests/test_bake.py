@@ -237,3 +237,36 @@ def test_frames_are_judged_from_the_garment_as_sewn(square):
     fallen = dict(moved, centroid=[c - d for c, d in zip(moved["centroid"], (0.0, 0.0, 0.25))])
     assert bake.judged_from(sewn, fallen) is sewn  # for good
     assert [f["check"] for f in tailor.judge(fallen, sewn)["failed"]] == ["fell"]
+
+
+def test_the_assembly_frames_are_reported_and_solve_the_same(tube):
+    """`on_assembly_frame` sees every preroll frame (the hold while the seams close included)
+    and every transition frame, in order, with its time, step statistics and the collider
+    positions it was solved with (the smoothstep from the assembly pose to the start frame's);
+    the frames solved are bit for bit those of a bake without it (which steps the preroll in one
+    call)."""
+    def run(**kw):
+        sim = tailor.Simulation(tube["positions"], tube["triangles"], tube["rest"], tailor.Fabric(),
+                                tailor.Settings(substeps=4, iterations=10, gravity=(0.0, 0.0, 0.0)))
+        for name, a, b in tube["seams"]:
+            sim.add_seam(a, b, name=name)
+        v, t = box(0.06, 0.15)
+        cid = sim.add_mesh_collider(v, t)
+        b = bake.Bake(sim, [bake.Collider("box", cid, len(v))], fps=30.0, start=1, preroll=2, assembly=[v],
+                      transition=3, **kw)
+        b.run(lambda f: [v + np.float32([0.0, 0.0, 0.01 * f])], 3)
+        return b, v
+
+    seen: list[bake.AssemblyFrame] = []
+    reported, v = run(on_assembly_frame=seen.append)
+    plain, _ = run()
+    np.testing.assert_array_equal(reported.positions(), plain.positions())
+    assert reported.preroll_frames == plain.preroll_frames > 2  # the tube's 8 cm gap holds the rest pose
+    n = reported.preroll_frames
+    assert [(f.phase, f.index) for f in seen] == [("preroll", k) for k in range(1, n + 1)] + \
+        [("transition", k) for k in (1, 2, 3)]
+    assert seen[n - 2].stats["ramp_phase"] == "closing" and seen[n - 1].stats["ramp_phase"] != "closing"
+    assert all(f.ms > 0 and "seam_gap_max" in f.stats for f in seen)
+    np.testing.assert_array_equal(seen[0].colliders[0], v)
+    lift = [float(np.mean(f.colliders[0][:, 2] - v[:, 2])) for f in seen[n:]]
+    np.testing.assert_allclose(lift, [0.01 * (3 * t * t - 2 * t ** 3) for t in (1 / 3, 2 / 3, 1.0)], atol=1e-6)

@@ -2,9 +2,12 @@
 
 A bake is: for each frame, the colliders' vertex positions in, one solver frame, the garment's
 positions and quality metrics out. The command line (``tailor simulate``), the Blender add-on's
-Bake and Live modes and pipeline scripts all run this loop; they differ only in where collider
-positions come from (a glTF skin, a PC2 cache, Blender's evaluated meshes) and where positions
-go (a PC2 file, Blender meshes).
+Bake and Live modes, the demo (``demo/`` in the source tree) and pipeline scripts all run this
+loop; they differ only in where collider positions come from (a mesh, a PC2 cache or a glTF skin
+through ``tailor.motion.ColliderMotion``; Blender's evaluated meshes) and where positions go (a
+PC2 file, Blender meshes). The frames a bake solves before its start frame (the assembly at a
+rest pose and the move from it) are not recorded; a driver that reports them (the demo's
+timings per phase) gets each through ``Bake.on_assembly_frame``.
 
 ``Bake`` keeps every frame it has solved, so a cancelled bake keeps its frames and ``run`` can
 resume where it stopped: the solver state lives on in the same ``Bake`` object, which makes a
@@ -238,6 +241,21 @@ class ColliderPins:
 
 
 @dataclass
+class AssemblyFrame:
+    """A solver frame of a bake's assembly, before its start frame (`Bake.on_assembly_frame`):
+    `phase` "preroll" (at the assembly pose) or "transition" (moving to the start frame's),
+    `index` (1-based within the phase), `ms` (the solve's wall time), `stats` (its
+    `Simulation.step` statistics: `ramp_phase`, `seam_gap_max`, `contacts`, ...) and the collider
+    positions it was solved with (one array per collider)."""
+
+    phase: str
+    index: int
+    ms: float
+    stats: dict
+    colliders: Sequence[np.ndarray]
+
+
+@dataclass
 class Bake:
     """A running bake: `sim` with its mesh `colliders`, one frame per `step`.
 
@@ -248,7 +266,7 @@ class Bake:
     seams are still closing (up to `preroll_limit()`), then
     `transition` steps moving them from `assembly` to the start frame's positions along a
     smoothstep (3t² - 2t³: the body starts and ends the move at rest, no jolt at either end for
-    the cloth's contacts, as `tailor.commands.on_character` blends).
+    the cloth's contacts).
     With `assembly_gravity` set (typically zero) the preroll runs under that gravity: a garment
     whose seams are still open has nothing to hang on and would fall off the body while they
     close. `pins` (optional) are attached to their collider after the first solver frame,
@@ -275,6 +293,10 @@ class Bake:
     #: many frames in all (None: `ASSEMBLY_MAX_S` seconds); `preroll_frames` is how many ran.
     preroll_max: int | None = None
     preroll_frames: int = 0
+    #: Called after every preroll and transition frame (they are not recorded) with an
+    #: `AssemblyFrame`: for drivers that report the assembly (the demo's timings per phase).
+    #: The frames solved are the same with it or without.
+    on_assembly_frame: Callable[[AssemblyFrame], None] | None = None
 
     def __post_init__(self) -> None:
         # A NaN or zero rate would reach the solver as a NaN or infinite time step.
@@ -318,20 +340,40 @@ class Bake:
         self.records.append(rec)
         return rec
 
-    def _solve(self, dt: float, frames: int = 1) -> str:
+    def record_failure(self) -> dict:
+        """Records frame `next_frame` as failed, after `step` raised `SimulationError` for it (the
+        solver rolled back): the positions as they are, a record with `nan` set and no time,
+        judged against `start_metrics` (which it does not move on). Returns the record; the next
+        `step` goes on from there (``tailor simulate`` keeps every frame this way)."""
+        rec = frame_record(self.sim, self.next_frame, 0.0, True, self.metrics_collider, self.start_metrics)
+        self.frames.append(self.sim.positions)
+        self.records.append(rec)
+        return rec
+
+    def _solve(self, dt: float, frames: int = 1) -> dict:
         """`frames` solver frames; pins waiting for the seams are attached after the first
         frame whose ramp is no longer closing (so frame by frame until then). Returns the
-        ramp's phase after the last frame ("closing", "releasing" or "done")."""
+        last frame's `Simulation.step` statistics (its `ramp_phase`: "closing", "releasing"
+        or "done")."""
         if self.pins is None or self.pins.attached:
-            return self.sim.step(dt, frames)["ramp_phase"]
-        phase = "done"
+            return self.sim.step(dt, frames)
+        stats = {"ramp_phase": "done"}
         for k in range(frames):
-            phase = self.sim.step(dt)["ramp_phase"]
-            if self.pins.after_frame(self.sim, phase):
+            stats = self.sim.step(dt)
+            if self.pins.after_frame(self.sim, stats["ramp_phase"]):
                 if frames - k - 1 > 0:
-                    phase = self.sim.step(dt, frames - k - 1)["ramp_phase"]
+                    stats = self.sim.step(dt, frames - k - 1)
                 break
-        return phase
+        return stats
+
+    def _assembly_frame(self, phase: str, index: int, dt: float, colliders: Sequence[np.ndarray]) -> str:
+        """One preroll or transition frame, handed to `on_assembly_frame` when there is one.
+        Returns the ramp's phase after it."""
+        t0 = time.perf_counter()
+        stats = self._solve(dt)
+        if self.on_assembly_frame is not None:
+            self.on_assembly_frame(AssemblyFrame(phase, index, (time.perf_counter() - t0) * 1e3, stats, colliders))
+        return stats["ramp_phase"]
 
     def preroll_limit(self) -> int:
         """The most preroll frames `_assemble` runs while the seams are still closing."""
@@ -354,9 +396,14 @@ class Bake:
                 # closing phase when they have met (or stalled), by measured gaps, however far
                 # apart the pieces were placed; leaving the pose earlier drags open seams
                 # through the motion.
-                phase, n, cap = self._solve(dt, self.preroll), self.preroll, self.preroll_limit()
+                n, cap = self.preroll, self.preroll_limit()
+                if self.on_assembly_frame is None:
+                    phase = self._solve(dt, self.preroll)["ramp_phase"]
+                else:  # frame by frame, as many solver frames (`Simulation.step` loops the same)
+                    for k in range(1, self.preroll + 1):
+                        phase = self._assembly_frame("preroll", k, dt, pose)
                 while phase == "closing" and n < cap:
-                    phase, n = self._solve(dt), n + 1
+                    phase, n = self._assembly_frame("preroll", n + 1, dt, pose), n + 1
                 self.preroll_frames = n
             finally:
                 if self.assembly_gravity is not None:
@@ -368,8 +415,9 @@ class Bake:
             for k in range(1, self.transition + 1):
                 t = k / self.transition
                 t = t * t * (3.0 - 2.0 * t)
-                self._set_colliders([(1.0 - t) * pa + t * pb for pa, pb in zip(a, b)])
-                self._solve(dt)
+                blend = [(1.0 - t) * pa + t * pb for pa, pb in zip(a, b)]
+                self._set_colliders(blend)
+                self._assembly_frame("transition", k, dt, blend)
         self.prerolled = True
 
     def run(

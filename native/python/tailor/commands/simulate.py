@@ -4,9 +4,10 @@
         [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json [-o CACHE.pc2]
 
 MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays); CACHE is a PC2 file
-of the collider's vertex positions per frame. Gravity points down the up axis: Y for OBJ and
-glTF files by their convention, Z for PLY, unless ``--up`` says. The garment assembles (its seams
-close under the damping ramp) and follows the collider. The report holds one record per frame
+of the collider's vertex positions per frame (both read by ``tailor.motion.ColliderMotion``).
+Gravity points down the up axis: Y for OBJ and glTF files by their convention, Z for PLY,
+unless ``--up`` says. The garment assembles (its seams close under the damping ramp) and
+follows the collider. The report holds one record per frame
 and a summary of the same fields (worst case over the frames, mean frame time).
 
 Every frame is judged by ``tailor.judge`` against the garment as placed (frame 0): whether it
@@ -36,8 +37,6 @@ import json
 import os
 from pathlib import Path
 
-import numpy as np
-
 from tailor.bake import FIELDS  # noqa: F401  (the report fields, kept importable from here)
 
 #: Exit status of a run that finished but whose result fails its own checks (fell, open, inside).
@@ -66,44 +65,11 @@ def register(sub):
     p.set_defaults(run=run)
 
 
-class ColliderMotion:
-    """Collider vertex positions per frame: static, a PC2 cache, or a glTF skin animation."""
-
-    def __init__(self, path: str, cache: str | None, fps: float):
-        import tailor
-
-        self.fps = fps
-        self.anim = None
-        self.cache = None
-        ext = Path(path).suffix.lower()
-        if ext in (".glb", ".gltf"):
-            scene = tailor.AnimatedMesh(path)
-            self.triangles = scene.triangles
-            if scene.animations and cache is None:
-                self.anim = scene
-            self.rest = scene.positions_at(0.0, None)
-        else:
-            self.rest, self.triangles = tailor.read_mesh(path)
-        if cache is not None:
-            c = tailor.read_pc2(cache)
-            if c["frames"].shape[1] != len(self.rest):
-                raise tailor.InvalidParameterError(
-                    f"{cache}: the cache has {c['frames'].shape[1]} points but {path} has {len(self.rest)} vertices"
-                )
-            self.cache = c["frames"]
-
-    def at(self, frame: int) -> np.ndarray:
-        if self.cache is not None:
-            return self.cache[min(frame, len(self.cache) - 1)]
-        if self.anim is not None:
-            return self.anim.positions_at(frame / self.fps, 0)
-        return self.rest
-
-
 def run(args):
     import tailor
     from tailor import bake
     from tailor.commands import on_character
+    from tailor.motion import ColliderMotion
 
     # Every check before any work: the settings by name, then the files (an output over an
     # input, or in a folder it cannot be written to, is refused now rather than after the run).
@@ -132,7 +98,7 @@ def run(args):
         iterations=preset.iterations if args.iterations is None else args.iterations,
         tolerance=preset.tolerance, gravity=gravity)
     sim, offsets = garment.build_simulation(settings=settings, backend=args.backend)
-    motion = ColliderMotion(args.collider, args.collider_anim, args.fps)
+    motion = ColliderMotion(args.collider, args.collider_anim, fps=args.fps)
     cid = sim.add_mesh_collider(motion.at(0), motion.triangles)
     levels, level_warnings = garment.collider_levels(len(motion.rest))
     if levels is not None:
@@ -157,9 +123,7 @@ def run(args):
             rec = run.step([motion.at(f - 1)])
         except tailor.SimulationError as exc:
             warnings.append(f"frame {f}: {exc}")
-            rec = bake.frame_record(sim, f, 0.0, True, cid, run.start_metrics)
-            run.frames.append(sim.positions)
-            run.records.append(rec)
+            rec = run.record_failure()
         frames.append(rec)
         if f % 10 == 0 or f == 1 or f == args.frames:
             print(f"frame {f:4d}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "

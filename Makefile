@@ -13,7 +13,7 @@ ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -na
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
-	$(PY) -m tailor demo --out out/demo
+	$(PY) demo/run.py --out out/demo
 
 ## Run every test: the crates' own tests, then pytest against the built module.
 test: setup develop test-rust test-python

@@ -11,9 +11,9 @@ combinations, fitted to the GarmentCode mean body), the suite runs
 BODY --frames N`` (the body with its legs apart for designs with trousers, as GarmentCode's own
 draping does), one fresh process each, and reads the verdict ``tailor simulate`` wrote into its
 report (on the body, seams closed, nothing inside the body, no NaN). Then, unless ``--no-walk``,
-the walk: ``python -m tailor demo --garment GARMENT --no-render`` on the walking sample character
-(the same body, rigged): assembled at its rest pose, blended into the walk, one cycle, judged by
-the same checks. It prints one line per design and the shares that succeed, and writes
+the walk: ``python demo/run.py --garment GARMENT --no-render`` on the walking sample character
+(the same body, rigged): assembled at its rest pose, blended into the walk, one cycle
+(`tailor.bake.Bake`'s preroll, transition and frames), judged by the same checks. It prints one line per design and the shares that succeed, and writes
 ``OUT/summary.json``, ``OUT/table.md`` and a picture of every failure (``OUT/failures/NAME.png``:
 the last frame at rest; ``NAME-walk.png``: the walk's first failing frame; front and side).
 """
@@ -97,8 +97,8 @@ def run_one(name: str, spec: Path, kind: dict, body: Path, args, work: Path) -> 
     )
     if args.walk:
         demo = work / f"{name}-walk"
-        w = subprocess.run([py, "-m", "tailor", "demo", "--garment", str(garment), "--no-render", "--frames", "32",
-                            "--out", str(demo)], capture_output=True, text=True)
+        w = subprocess.run([py, str(REPO / "demo" / "run.py"), "--garment", str(garment), "--no-render", "--frames",
+                            "32", "--out", str(demo)], capture_output=True, text=True)
         report = demo / "report.json"
         if report.exists():
             ws = json.loads(report.read_text())["summary"]
@@ -113,19 +113,16 @@ def run_one(name: str, spec: Path, kind: dict, body: Path, args, work: Path) -> 
 
 def walk_picture(name: str, row: dict, out: Path) -> None:
     """`failures/NAME-walk.png`: the walk's first failing frame, on the character posed as the
-    demo posed it then (the report's phases give its rest and blend frames)."""
-    from tailor.commands import on_character
+    demo posed it then (frame f of the walk is the demo's cache's step `action_start_step` + f)."""
+    import tailor
+    from tailor.motion import ColliderMotion
 
     demo = out / "work" / f"{name}-walk"
-    report = json.loads((demo / "report.json").read_text())
-    first = min(v["frame"] for v in report["summary"]["verdict"])
-    phases = [r["phase"] for r in report["frames"]]
-    schedule = on_character.Schedule(phases.count("assemble"), phases.count("blend"))
-    character = on_character.Character(REPO / "sample_blends" / "character.glb")
-    import tailor
-
-    cloth = tailor.read_pc2(str(demo / "garment.pc2"))["frames"][first - 1]
-    picture.garment_on_body(character.at(first - 1, schedule), cloth,
+    summary = json.loads((demo / "report.json").read_text())["summary"]
+    first = min(v["frame"] for v in summary["verdict"])
+    walk = ColliderMotion(REPO / "sample_blends" / "character.glb", animation="walk", loop=True)
+    cloth = tailor.read_pc2(str(demo / "garment.pc2"))["frames"][summary["action_start_step"] + first]
+    picture.garment_on_body(walk.at(first), cloth,
                             f"{name} {row['kind']} walk: {', '.join(row['walk_failed'])}",
                             str(out / "failures" / f"{name}-walk.png"))
 

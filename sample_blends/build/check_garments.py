@@ -46,13 +46,13 @@ def check(name: str, frames: int, character) -> dict:
 
 
 def main(argv=None) -> int:
-    from tailor.commands import on_character
+    from tailor.motion import ColliderMotion
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--frames", type=int, default=60)
     ap.add_argument("--only", help="comma-separated sample names")
     args = ap.parse_args(argv)
-    character = on_character.Character(SAMPLES / "character.glb")
+    character = ColliderMotion(SAMPLES / "character.glb")  # its rest pose
     names = args.only.split(",") if args.only else NAMES
     results = [check(n, args.frames, character) for n in names]
     return 0 if all(r["ok"] for r in results) else 1

@@ -47,6 +47,7 @@ def penetrating(tailor, x, body, tris, ids) -> list[tuple[int, float]]:
 def main(argv=None) -> int:
     import tailor
     from tailor.commands import on_character
+    from tailor.motion import ColliderMotion
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("name")
@@ -54,7 +55,7 @@ def main(argv=None) -> int:
     ap.add_argument("--self", dest="self_collision", choices=("on", "off", "file"), default="file")
     args = ap.parse_args(argv)
     path = SAMPLES / f"{args.name}.json"
-    ch = on_character.Character(SAMPLES / "character.glb")
+    ch = ColliderMotion(SAMPLES / "character.glb")  # its rest pose
     d = on_character.dress(path, ch.rest, ch.triangles)
     if args.self_collision != "file":
         d.sim.set_self_collision(enabled=args.self_collision == "on", radius=d.sim.self_collision["radius_setting"])

@@ -1,4 +1,6 @@
-"""The ``tailor`` command line. Each sub-command lives in its own module under ``tailor.commands``.
+"""The ``tailor`` command line. Each sub-command lives in its own module under ``tailor.commands``
+(``import``, ``info``, ``simulate``). The demo of ``make demo`` is not one of them: it lives in the
+source tree's ``demo/`` folder, outside the package that ships in the add-on.
 
 Every error ends the same way: one line on standard error, ``tailor COMMAND: error: ...``, and
 a non-zero exit status (2; 130 after Ctrl-C), never a traceback. Tailor's own errors say what
@@ -27,9 +29,8 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="tailor", description="Tailor garment tools (headless).")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    from tailor.commands import demo, import_, info, simulate
+    from tailor.commands import import_, info, simulate
 
-    demo.register(sub)
     import_.register(sub)
     info.register(sub)
     simulate.register(sub)

@@ -1,19 +1,15 @@
-"""A sample garment file on the animated sample character, headless (module only, no bpy).
+"""A sample garment file on a body, headless (module only, no bpy): its simulation and quality.
 
 The sample garments (sample_blends/*.json, written by sample_blends/build/garments.py) hold
 their fabric per piece, collision levels and solver choices in the garment file's typed setup
-(`tailor.Garment.setup`); the character is `sample_blends/character.glb` read by
-`tailor.AnimatedMesh`, Y-up like the garment files. The stages of a run, in order:
+(`tailor.Garment.setup`). `dress()` builds the `tailor.Simulation` of such a file with a body
+(the vertices of `tailor.motion.ColliderMotion`'s rest pose, say) as a mesh collider, configured
+by the garment file's own setup (`tailor.Garment.build_simulation`); `quality()` gives the
+figures of its current state.
 
-1. **assemble** at the rest pose (the A-pose GarmentCode places its panels for): the seams close
-   under the damping ramp and the garment settles;
-2. **blend** from the rest pose into the first frame of the action, vertex by vertex, so the
-   arms come down from the A-pose over a few frames instead of teleporting through the cloth;
-3. **animate**: the action plays (looping) at the frame rate.
-
-`Character.at(frame)` gives the body's vertices for any frame of that schedule; `dress()`
-builds the `tailor.Simulation` with the body as a mesh collider, configured by the garment
-file's own setup (`tailor.Garment.build_simulation`).
+The body's motion (`tailor.motion`) and the frame loop with its assembly at the rest pose and
+blend into the action (`tailor.bake.Bake`'s preroll and transition) are not here: the demo
+(`demo/character.py`) drives a dressed garment through those.
 """
 
 from __future__ import annotations
@@ -24,64 +20,9 @@ from pathlib import Path
 import numpy as np
 
 import tailor
-from tailor.bake import ASSEMBLY_MAX_S, ColliderPins
+from tailor.bake import ColliderPins
 
 GRAVITY_Y = (0.0, -9.81, 0.0)
-
-
-@dataclass
-class Schedule:
-    assemble: int  # frames at the rest pose (at least: `hold` adds more while the seams close)
-    blend: int  # frames from the rest pose into the action's first frame
-    fps: float = 30.0
-    assemble_max: int | None = None  # the most frames at rest (None: `bake.ASSEMBLY_MAX_S`)
-
-    def hold(self, frame: int, ramp_phase: str) -> None:
-        """After solving `frame`: when it was the last frame at rest and the seams are still
-        closing (`ramp_phase`, as `Simulation.step` reports it), the rest pose is held one
-        frame more, up to `assemble_max`; as `bake.Bake`'s preroll, so the garment leaves the
-        rest pose assembled however far apart its pieces were placed."""
-        cap = self.assemble_max if self.assemble_max is not None else round(ASSEMBLY_MAX_S * self.fps)
-        if frame == self.assemble - 1 and ramp_phase == "closing" and self.assemble < cap:
-            self.assemble += 1
-
-    def phase(self, frame: int) -> str:
-        if frame < self.assemble:
-            return "assemble"
-        return "blend" if frame < self.assemble + self.blend else "animate"
-
-
-class Character:
-    """The skinned body of a glTF file: its rest pose and one action, on a `Schedule`."""
-
-    def __init__(self, path: str | Path, action: str = "walk"):
-        import tailor
-
-        self.path = str(path)
-        self.mesh = tailor.AnimatedMesh(self.path)
-        self.triangles = np.asarray(self.mesh.triangles, np.uint32)
-        names = [n for n, _ in self.mesh.animations]
-        if action not in names:
-            raise tailor.InvalidParameterError(f"{self.path}: no action '{action}' (it has {', '.join(names)})")
-        self.action = names.index(action)
-        self.duration = float(self.mesh.animations[self.action][1])
-        self.rest = self.mesh.positions_at(0.0, None)
-
-    def pose(self, t: float) -> np.ndarray:
-        """Vertices at time `t` seconds of the action (looping)."""
-        return self.mesh.positions_at(t % self.duration if self.duration > 0 else 0.0, self.action)
-
-    def at(self, frame: int, schedule: Schedule) -> np.ndarray:
-        """Vertices at simulation frame `frame` (0-based) of `schedule`."""
-        if frame < schedule.assemble:
-            return self.rest
-        k = frame - schedule.assemble
-        if k < schedule.blend:
-            w = (k + 1) / schedule.blend
-            # Smoothstep: the body starts and ends the blend at rest, no jolt for the cloth.
-            w = w * w * (3.0 - 2.0 * w)
-            return ((1.0 - w) * self.rest + w * self.pose(0.0)).astype(np.float32)
-        return self.pose((k - schedule.blend) / schedule.fps)
 
 
 @dataclass

@@ -1,4 +1,4 @@
-"""``tailor demo --scene sleeve``: the module-only demo (no character, no rendering).
+"""The demo's sleeve scene (``demo/run.py --scene sleeve``): module only, no character, no rendering.
 
 A sleeve (two rectangular panels, 50 × 60 cm) is placed on either side of an arm (a horizontal
 capsule), sewn along both long sides, and simulated: the seams close under the damping ramp and

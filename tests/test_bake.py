@@ -270,3 +270,17 @@ def test_the_assembly_frames_are_reported_and_solve_the_same(tube):
     np.testing.assert_array_equal(seen[0].colliders[0], v)
     lift = [float(np.mean(f.colliders[0][:, 2] - v[:, 2])) for f in seen[n:]]
     np.testing.assert_allclose(lift, [0.01 * (3 * t * t - 2 * t ** 3) for t in (1 / 3, 2 / 3, 1.0)], atol=1e-6)
+
+
+def test_a_failed_frame_is_recorded_as_nan_and_the_run_goes_on(square):
+    """`record_failure` (what `tailor simulate` does after a `SimulationError`): frame
+    `next_frame` is recorded with `nan` set, no time and the positions as they are, judged
+    against the same reference, and the next `step` solves the frame after it."""
+    run = new_bake(square)
+    run.run(moving_box, 2)
+    ref = run.start_metrics
+    rec = run.record_failure()
+    assert rec["frame"] == 3 and rec["nan"] and rec["ms"] == 0.0 and run.records[-1] is rec
+    np.testing.assert_array_equal(run.frames[-1], run.frames[-2])
+    assert run.start_metrics is ref and run.next_frame == 4
+    assert run.step(moving_box(4))["frame"] == 4 and run.summary()["nan"]

@@ -1,7 +1,7 @@
 """The demo's character scene: a sample garment file on the walking sample character.
 
 The body is `tailor.motion.ColliderMotion` (the glTF's rest pose, its action looping); the
-garment is built from its file as the samples are (`tailor.commands.on_character.dress`); the
+garment is built from its file as the samples are (`tailor.dress.dress`); the
 frames run through `tailor.bake.Bake`, the add-on's and ``tailor simulate``'s loop, so the demo
 assembles and judges a garment as they do:
 
@@ -69,7 +69,7 @@ def row(step: int, phase: str, r: dict, ramp: str) -> str:
 def run(args) -> int:
     import tailor
     from tailor import bake
-    from tailor.commands import on_character
+    from tailor import dress as dressing
     from tailor.motion import ColliderMotion
 
     t_all = time.perf_counter()
@@ -77,7 +77,7 @@ def run(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     body = ColliderMotion(args.character, animation=args.action, fps=FPS, loop=True)
-    d = on_character.dress(args.garment, body.rest, body.triangles, args.substeps, args.iterations)
+    d = dressing.dress(args.garment, body.rest, body.triangles, args.substeps, args.iterations)
     load_s = time.perf_counter() - t0
     sim, info = d.sim, d.info
     print(f"Tailor {tailor.__version__} demo: {info['garment']} ({info['pieces']} pieces, {info['seams']} seams, "

@@ -15,7 +15,7 @@ Two scenes:
 Why here and not in ``tailor``: the package ``native/python/tailor`` is the wheel that ships
 inside the Blender add-on; the demo reads the source checkout's samples and renders with the
 `bpy` wheel, neither of which belongs in it. The demo uses only the package's public API
-(``tailor.bake``, ``tailor.motion``, and ``tailor.commands.on_character.dress`` for the garment
+(``tailor.bake``, ``tailor.motion``, and ``tailor.dress.dress`` for the garment
 file's setup until that moves into the core).
 
 Errors end as the command line's do: one line on stderr and exit status 2.

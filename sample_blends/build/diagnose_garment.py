@@ -46,7 +46,7 @@ def penetrating(tailor, x, body, tris, ids) -> list[tuple[int, float]]:
 
 def main(argv=None) -> int:
     import tailor
-    from tailor.commands import on_character
+    from tailor import dress as dressing
     from tailor.motion import ColliderMotion
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -56,7 +56,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     path = SAMPLES / f"{args.name}.json"
     ch = ColliderMotion(SAMPLES / "character.glb")  # its rest pose
-    d = on_character.dress(path, ch.rest, ch.triangles)
+    d = dressing.dress(path, ch.rest, ch.triangles)
     if args.self_collision != "file":
         d.sim.set_self_collision(enabled=args.self_collision == "on", radius=d.sim.self_collision["radius_setting"])
     names = [p.name for p in tailor.Garment.load(str(path)).pieces]

@@ -122,8 +122,7 @@ def verdict_of(records: Sequence[dict]) -> list[dict]:
             first.setdefault(f["check"], {"check": f["check"], "frame": r["frame"], "reason": f["reason"]})
     if records:
         last = records[-1]
-        # (a bake record's gap is `seam_gap_max_m`, `tailor.commands.on_character.quality`'s `seam_gap_m`)
-        gap = last["seam_gap_max_m"] if "seam_gap_max_m" in last else last.get("seam_gap_m", 0.0)
+        gap = last.get("seam_gap_max_m", 0.0)
         f = judge_unfinished(bool(last.get("seams_closing", False)), float(gap))
         if f is not None:
             first.setdefault(f["check"], {"check": f["check"], "frame": last["frame"], "reason": f["reason"]})

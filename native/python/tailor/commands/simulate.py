@@ -68,7 +68,7 @@ def register(sub):
 def run(args):
     import tailor
     from tailor import bake
-    from tailor.commands import on_character
+    from tailor import dress as dressing
     from tailor.motion import ColliderMotion
 
     # Every check before any work: the settings by name, then the files (an output over an
@@ -84,12 +84,6 @@ def run(args):
     if args.edge is not None:  # --edge 0 is an error (set_resolution names it), not "keep"
         for i in range(len(garment.pieces)):
             garment.set_resolution(i, args.edge)
-    setup = garment.setup
-    if args.thickness is not None:
-        setup["thickness"] = args.thickness
-    if args.self_collision is not None:
-        setup["self_collision"] = bool(args.self_collision)
-    garment.setup = setup
     # The preset is the module's defaults with its substeps, iterations and tolerance; the
     # constructor checks what the arguments override, by name.
     preset = tailor.Settings.preset(args.preset)
@@ -97,15 +91,13 @@ def run(args):
         substeps=preset.substeps if args.substeps is None else args.substeps,
         iterations=preset.iterations if args.iterations is None else args.iterations,
         tolerance=preset.tolerance, gravity=gravity)
-    sim, offsets = garment.build_simulation(settings=settings, backend=args.backend)
     motion = ColliderMotion(args.collider, args.collider_anim, fps=args.fps)
-    cid = sim.add_mesh_collider(motion.at(0), motion.triangles)
-    levels, level_warnings = garment.collider_levels(len(motion.rest))
-    if levels is not None:
-        sim.set_collider_levels(cid, levels)
-    warnings += garment.build_warnings + level_warnings
-    pins = bake.ColliderPins(cid, garment.attach_groups())
-    setup = on_character.setup_info(sim, garment, pins)
+    d = dressing.dress(garment, motion.at(0), motion.triangles, settings=settings, backend=args.backend,
+                       thickness=args.thickness, self_collision=args.self_collision, collider_friction=None,
+                       strict=False)
+    sim, cid, pins = d.sim, d.collider, d.pins
+    warnings += d.info["warnings"]
+    setup = {k: v for k, v in d.info.items() if k in dressing.SETUP_KEYS}
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
           f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}, "
           f"backend {sim.backend}{f' ({sim.adapter})' if sim.adapter else ''}; thickness "

@@ -139,7 +139,7 @@ impl Solver {
             // frames run on the CPU and the GPU takes over (re-uploaded by `edit`) from the
             // release on.
             let mut st = self.edit(|sim| sim.step(dt))?;
-            st.warning = self.warning.clone();
+            st.warning = Some(self.frame_on_cpu("the seams are closing (their rest lengths and gravity change every substep)"));
             return Ok(st);
         }
         #[cfg(feature = "gpu")]
@@ -151,6 +151,15 @@ impl Solver {
                     return Ok(st);
                 }
                 Err(GpuFailure::Step(e)) => return Err(e),
+                Err(GpuFailure::Unsupported(why)) => {
+                    // This frame only: the scene holds something the GPU does not run yet (a
+                    // pin riding on the collider, an early stop). The CPU's state is current
+                    // (the GPU refuses before the frame's work, or hands the begun frame over),
+                    // and the GPU, marked stale, tries again next frame from it.
+                    let mut st = self.sim.step(dt)?;
+                    st.warning = Some(self.frame_on_cpu(&format!("not supported on the GPU yet: {why}")));
+                    return Ok(st);
+                }
                 Err(other) => {
                     // Keep the velocities if the device still answers; positions are current.
                     let kept = g.sync_velocities(&mut self.sim).is_ok();
@@ -163,6 +172,13 @@ impl Solver {
         let mut st = self.sim.step(dt)?;
         st.warning = self.warning.clone();
         Ok(st)
+    }
+
+    /// The warning of a frame the CPU ran although the GPU is in use, and why.
+    #[cfg(feature = "gpu")]
+    fn frame_on_cpu(&self, why: &str) -> String {
+        let before = self.warning.as_deref().map(|w| format!("{w}; ")).unwrap_or_default();
+        format!("{before}this frame ran on the CPU: {why}")
     }
 
     /// The simulation, read-only. Positions are always current; velocities are current on the

@@ -315,18 +315,38 @@ fn colliders_match_the_cpu_as_closely_as_the_cpu_matches_itself() {
     assert!(worst_gpu < 5.0 * worst_ref.max(1e-4), "GPU drifts {worst_gpu} m, the CPU from itself {worst_ref} m");
 }
 
+/// A frame the GPU cannot run yet runs on the CPU, for that frame only, and its stats say why;
+/// the GPU takes the next frame that it can run, from the CPU's state.
 #[test]
-fn unsupported_scene_falls_back_to_the_cpu_with_a_warning() {
+fn unsupported_frames_run_on_the_cpu_one_frame_at_a_time() {
     let mut sim = strip();
     let mut settings = sim.settings().clone();
     settings.method = Method::Jacobi;
-    sim.set_settings(settings).unwrap();
-    let Some(mut g) = gpu(sim, "unsupported_scene") else { return };
+    sim.set_settings(settings.clone()).unwrap();
+    let Some(mut g) = gpu(sim, "unsupported_frames") else { return };
+    let mut cpu = strip();
+    cpu.set_settings(settings.clone()).unwrap();
     let st = g.step(1.0 / 30.0).unwrap();
+    cpu.step(1.0 / 30.0).unwrap();
     assert_eq!(st.backend, ActiveBackend::Cpu);
     let w = st.warning.unwrap();
-    assert!(w.contains("Jacobi"), "{w}");
-    assert_eq!(g.active_backend(), ActiveBackend::Cpu);
+    assert!(w.contains("this frame ran on the CPU") && w.contains("Jacobi"), "{w}");
+    assert_eq!(g.active_backend(), ActiveBackend::Gpu, "one refusal does not drop the GPU");
+    assert_eq!(cpu.state_hash(), g.simulation().state_hash(), "the CPU frame is the CPU step exactly");
+    // Supported again: the next frame is the GPU's, from the state the CPU left.
+    settings.method = Method::GaussSeidel;
+    g.edit(|s| s.set_settings(settings.clone())).unwrap();
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Gpu, "{:?}", st.warning);
+    assert!(st.warning.is_none());
+    // An early stop on `tolerance` is one of them too.
+    settings.tolerance = 1e-3;
+    g.edit(|s| s.set_settings(settings.clone())).unwrap();
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert!(st.backend == ActiveBackend::Cpu && st.warning.unwrap().contains("tolerance"));
+    settings.tolerance = 0.0;
+    g.edit(|s| s.set_settings(settings.clone())).unwrap();
+    assert_eq!(g.step(1.0 / 30.0).unwrap().backend, ActiveBackend::Gpu);
 }
 
 /// A frame that blows up on the GPU is rolled back there and reported as on the CPU; the

@@ -49,7 +49,7 @@ def test_quality_presets(tube):
     assert tailor.Settings.presets() == ["preview", "final"]
     preview, final = tailor.Settings.preset("preview"), tailor.Settings.preset("final")
     assert preview.substeps * preview.iterations < final.substeps * final.iterations
-    assert preview.tolerance > final.tolerance > 0
+    assert preview.tolerance > final.tolerance >= 0  # Final runs every iteration (8 x 15)
     sim = make_tube_sim(tube, gravity=(0.0, 0.0, 0.0))
     sim.settings = preview
     st = sim.step(1 / 30)

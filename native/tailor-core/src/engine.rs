@@ -139,7 +139,8 @@ impl Solver {
             // frames run on the CPU and the GPU takes over (re-uploaded by `edit`) from the
             // release on.
             let mut st = self.edit(|sim| sim.step(dt))?;
-            st.warning = Some(self.frame_on_cpu("the seams are closing (their rest lengths and gravity change every substep)"));
+            st.warning =
+                Some(self.frame_on_cpu("the seams are closing (their rest lengths and gravity change every substep)"));
             return Ok(st);
         }
         #[cfg(feature = "gpu")]

@@ -44,7 +44,7 @@ impl Garment {
             &mut Vec<String>,
         ) -> tailor_core::Result<()>,
     ) -> PyResult<Vec<String>> {
-        crate::errors::guard(|| {
+        {
             let layout = Layout::of_meshes(self.meshes_ref(py)?);
             if layout.particles() != sim.borrow_mut().edit(|s| s.num_particles())? {
                 return Err(to_py(TailorError::shape(
@@ -57,7 +57,7 @@ impl Garment {
             let g = &self.inner;
             sim.borrow_mut().edit(|s| f(s, g, &layout, &mut warnings))?.map_err(to_py)?;
             Ok(warnings)
-        })
+        }
     }
 
     fn meshes_ref(&mut self, py: Python<'_>) -> PyResult<&Vec<CoreMesh>> {
@@ -405,7 +405,7 @@ impl Garment {
         py: Python<'_>,
         sim: &Bound<'_, crate::simulation::Simulation>,
     ) -> PyResult<Vec<String>> {
-        self.apply_part(py, sim, core::apply_fabric)
+        crate::errors::guard(|| self.apply_part(py, sim, core::apply_fabric))
     }
 
     /// Applies the painted friction (or none) to `sim`, as `build_simulation` does.
@@ -414,7 +414,7 @@ impl Garment {
         py: Python<'_>,
         sim: &Bound<'_, crate::simulation::Simulation>,
     ) -> PyResult<Vec<String>> {
-        self.apply_part(py, sim, core::apply_friction)
+        crate::errors::guard(|| self.apply_part(py, sim, core::apply_friction))
     }
 
     /// Applies the setup's thickness and self-collision to `sim`, as `build_simulation` does.
@@ -423,7 +423,7 @@ impl Garment {
         py: Python<'_>,
         sim: &Bound<'_, crate::simulation::Simulation>,
     ) -> PyResult<Vec<String>> {
-        self.apply_part(py, sim, |s, g, _, _| core::apply_collision(s, g))
+        crate::errors::guard(|| self.apply_part(py, sim, |s, g, _, _| core::apply_collision(s, g)))
     }
 
     /// The painted pins by weight: `[(weight, particles)]`, weight 1 first (weights at or above

@@ -44,13 +44,16 @@
 //! The collision stages compose their source as `common.wgsl + collide_common.wgsl (+
 //! mesh_query.wgsl) + stage.wgsl`; the unit tests validate exactly those composed sources.
 //!
-//! **Not yet on the GPU** (a [`Solver`](crate::engine::Solver) asked for the GPU falls back to
-//! the CPU with a warning): the Jacobi method, the early stop on `tolerance` (it would need a
-//! readback per iteration), attachments to a mesh collider (`Simulation::attach_to_collider`:
-//! their targets move every substep), and more than [`collide_common::MAX_MESHES`] mesh
-//! colliders.
+//! Attachments to a mesh collider (`Simulation::attach_to_collider`, painted pins riding on
+//! the character) move their targets with the collider every substep (`attach.wgsl`).
+//!
+//! **Not yet on the GPU** (a [`Solver`](crate::engine::Solver) asked for the GPU runs such a
+//! frame on the CPU, that frame only, with the reason in its stats): the Jacobi method, the
+//! early stop on `tolerance` (it would need a readback per iteration), frames whose seams are
+//! closing, and more than [`collide_common::MAX_MESHES`] mesh colliders.
 //! Flat bending and seams are linear, so they are fully in the matrix and need no GPU kernel.
 
+pub mod attach;
 pub mod chebyshev;
 pub mod collide_common;
 pub mod common;
@@ -149,6 +152,9 @@ pub struct Buffers {
     pub stable: wgpu::Buffer,
     pub sdelta: wgpu::Buffer,
     pub self_table_info: wgpu::Buffer,
+    /// Collider attachments (`attach.wgsl`) and their count.
+    pub attachments: wgpu::Buffer,
+    pub attach_info: wgpu::Buffer,
     x_backup: wgpu::Buffer,
     v_backup: wgpu::Buffer,
     state_backup: wgpu::Buffer,
@@ -170,6 +176,7 @@ struct Capacities {
     mesh_buckets: usize,
     mesh_entries: usize,
     self_buckets: usize,
+    attachments: usize,
 }
 
 impl Capacities {
@@ -185,6 +192,7 @@ impl Capacities {
             && need.mesh_buckets <= self.mesh_buckets
             && need.mesh_entries <= self.mesh_entries
             && need.self_buckets <= self.self_buckets
+            && need.attachments <= self.attachments
     }
 }
 
@@ -231,6 +239,12 @@ impl Buffers {
             stable: mk("stable", (caps.self_buckets + 1 + 4 * n as usize) as u64 * 4, storage),
             sdelta: mk("sdelta", n * VEC4, storage),
             self_table_info: mk("self_table_info", 16, U::UNIFORM | U::COPY_DST),
+            attachments: mk(
+                "attachments",
+                caps.attachments.max(1) as u64 * std::mem::size_of::<attach::Attachment>() as u64,
+                storage,
+            ),
+            attach_info: mk("attach_info", std::mem::size_of::<attach::AttachInfo>() as u64, U::UNIFORM | U::COPY_DST),
             x_backup: mk("x_backup", n * VEC4, storage),
             v_backup: mk("v_backup", n * VEC4, storage),
             state_backup: mk("state_backup", STATE_BYTES, storage),
@@ -260,6 +274,7 @@ struct Pipelines {
     self_scatter: wgpu::ComputePipeline,
     self_gather: wgpu::ComputePipeline,
     self_apply: wgpu::ComputePipeline,
+    attach: wgpu::ComputePipeline,
 }
 
 struct BindGroups {
@@ -284,6 +299,7 @@ struct BindGroups {
     self_sort: wgpu::BindGroup,
     self_gather: wgpu::BindGroup,
     self_apply: wgpu::BindGroup,
+    attach: wgpu::BindGroup,
 }
 
 /// What the current upload was made for.
@@ -302,6 +318,7 @@ struct Uploaded {
     meshes: Meshes,
     self_enabled: bool,
     self_buckets: usize,
+    n_attach: usize,
     colours: Vec<ColourRange>,
     h: f32,
     rho: f32,
@@ -424,6 +441,7 @@ impl GpuSolver {
             finish: compile(&device, "finish", finish::SOURCE, finish::ENTRY),
             ramp: compile(&device, "ramp", ramp::SOURCE, ramp::ENTRY),
             mesh_lerp: compile(&device, "mesh_lerp", mesh_hash::SOURCE, mesh_hash::LERP_ENTRY),
+            attach: compile(&device, "attach", attach::SOURCE, attach::ENTRY),
             mesh_count: compile(&device, "mesh_count", mesh_hash::SOURCE, mesh_hash::COUNT_ENTRY),
             mesh_scatter: compile(&device, "mesh_scatter", mesh_hash::SOURCE, mesh_hash::SCATTER_ENTRY),
             hash_scan: compile(&device, "hash_scan", hash::SOURCE, hash::SCAN_ENTRY),
@@ -477,9 +495,6 @@ impl GpuSolver {
         }
         if view.settings.tolerance > 0.0 {
             return Some("the early stop on `tolerance` (needs a readback per iteration)".into());
-        }
-        if !view.model.collider_attachments.is_empty() {
-            return Some("attachments to a mesh collider (their targets move every substep)".into());
         }
         // One dimension of dispatches covers 65535 workgroups of 64.
         let m = view.model;
@@ -609,6 +624,24 @@ impl GpuSolver {
             boff += nb;
         }
         let (n_mesh_verts, n_mesh_tris, mesh_buckets) = (voff as usize, toff as usize, boff as usize);
+        // Collider attachments: each bound triangle's vertices as global `mverts` indices.
+        let attachments: Vec<attach::Attachment> = m
+            .collider_attachments
+            .iter()
+            .map(|a| {
+                let c = a.collider as usize;
+                let tri = col.meshes[c].tris[a.triangle as usize];
+                attach::Attachment {
+                    particle: a.particle,
+                    verts: tri.map(|v| v + mesh_vert_off[c]),
+                    bary: a.bary,
+                    weight: a.weight,
+                    local: a.local,
+                    last: a.target,
+                    ..Default::default()
+                }
+            })
+            .collect();
         let mesh_entries = if col.meshes.is_empty() { 0 } else { Self::mesh_entry_bound(&col.meshes) * 5 / 4 };
         meshes.entries_off = boff + 1;
         p.n_meshes = col.meshes.len() as u32;
@@ -722,6 +755,7 @@ impl GpuSolver {
             mesh_buckets,
             mesh_entries,
             self_buckets,
+            attachments: attachments.len(),
         };
         let stride = self.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
         let realloc = self.buffers.as_ref().is_none_or(|b| !b.caps.fits(&need));
@@ -787,6 +821,11 @@ impl GpuSolver {
         q.write_buffer(&b.mesh_table_info, 0, bytemuck::bytes_of(&table(mesh_buckets, mesh_entries)));
         q.write_buffer(&b.self_table_info, 0, bytemuck::bytes_of(&table(self_buckets, n)));
         q.write_buffer(&b.meshes, 0, bytemuck::bytes_of(&meshes));
+        let info = attach::AttachInfo { n: attachments.len() as u32, ..Default::default() };
+        q.write_buffer(&b.attach_info, 0, bytemuck::bytes_of(&info));
+        if !attachments.is_empty() {
+            q.write_buffer(&b.attachments, 0, bytemuck::cast_slice(&attachments));
+        }
         if self_enabled {
             q.write_buffer(&b.scounts, 0, bytemuck::cast_slice(&vec![0u32; self_buckets]));
         }
@@ -867,6 +906,7 @@ impl GpuSolver {
                 ),
                 self_gather: bind(d, &pl.self_gather, "self_gather", &self_collide::gather_entries(b)),
                 self_apply: bind(d, &pl.self_apply, "self_apply", &self_collide::apply_entries(b)),
+                attach: bind(d, &pl.attach, "attach", &attach::entries(b)),
             });
         }
         self.uploaded = Some(Uploaded {
@@ -882,6 +922,7 @@ impl GpuSolver {
             meshes,
             self_enabled,
             self_buckets,
+            n_attach: attachments.len(),
             colours,
             h,
             rho: view.rho,
@@ -1000,6 +1041,12 @@ impl GpuSolver {
                     pass.set_pipeline(&pl.hash_sort);
                     pass.set_bind_group(0, &g.mesh_sort, &[]);
                     pass.dispatch_workgroups(groups(u.mesh_buckets, hash::WORKGROUP), 1, 1);
+                }
+                if u.n_attach > 0 {
+                    // After `lerp`: the targets at this substep's collider positions.
+                    pass.set_pipeline(&pl.attach);
+                    pass.set_bind_group(0, &g.attach, &[]);
+                    pass.dispatch_workgroups(groups(u.n_attach, attach::WORKGROUP), 1, 1);
                 }
                 for _ in 0..iterations {
                     if u.n_colliders > 0 || u.n_meshes > 0 {

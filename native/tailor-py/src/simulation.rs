@@ -601,7 +601,7 @@ impl Simulation {
     /// ride on it: each is bound where it is now to the nearest collider triangle (barycentric
     /// point plus its offset in the triangle's frame) and from then on pulled, every substep,
     /// towards that point as the collider moves and deforms. Attaching an attached particle
-    /// rebinds it. The GPU does not run these yet (the CPU steps, with `backend_warning`).
+    /// rebinds it. The GPU backend runs them too.
     /// Raises InvalidMeshError for an unknown collider or a particle out of range,
     /// InvalidParameterError for a stiffness not positive and finite; nothing changes then.
     fn attach_to_collider(

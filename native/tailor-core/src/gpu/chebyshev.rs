@@ -5,7 +5,13 @@ use super::Buffers;
 pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("chebyshev.wgsl"));
 pub const REDUCE_ENTRY: &str = "reduce_omega";
 pub const EXTRAPOLATE_ENTRY: &str = "extrapolate";
+pub const GATE_ENTRY: &str = "gate";
 pub const WORKGROUP: u32 = 64;
+
+/// The early stop's gate: `state` only.
+pub fn gate_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
+    vec![(1, &b.state)]
+}
 
 pub fn reduce_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
     vec![(0, &b.params), (1, &b.state), (2, &b.norms)]

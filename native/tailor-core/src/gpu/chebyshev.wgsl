@@ -14,6 +14,9 @@ var<workgroup> sum_r: array<f32, 256>;
 
 @compute @workgroup_size(256)
 fn reduce_omega(@builtin(local_invocation_index) li: u32) {
+    if (state.done != 0u) {
+        return;
+    }
     var a = 0.0;
     var b = 0.0;
     for (var i = li; i < params.n; i += REDUCE) {
@@ -41,6 +44,12 @@ fn reduce_omega(@builtin(local_invocation_index) li: u32) {
         state.r0 = max(res, 1e-30);
     }
     state.residual = res / state.r0;
+    // The CPU's early stop (`Simulation::iterate`): relative to the larger of the first
+    // residual and the cloth's weight; this iteration's extrapolation still runs.
+    if (state.tolerance > 0.0 && k > 0u && res < state.tolerance * max(state.r0, state.weight_norm)) {
+        state.stop = 1u;
+    }
+    state.iterations_run += 1u;
     // `Chebyshev::omega`: restart when the update norm grew; the last iteration is plain.
     let grew = state.started != 0u && delta > state.last_delta;
     state.last_delta = delta;
@@ -62,6 +71,10 @@ fn reduce_omega(@builtin(local_invocation_index) li: u32) {
 
 @compute @workgroup_size(64)
 fn extrapolate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the stage does nothing more.
+    if (state.done != 0u) {
+        return;
+    }
     let i = gid.x;
     if (i >= params.n) {
         return;
@@ -76,4 +89,12 @@ fn extrapolate(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     prev[i] = cur[i];
     cur[i] = xi;
+}
+
+// First in each iteration when the early stop is on: a converged substep stops here.
+@compute @workgroup_size(1)
+fn gate() {
+    if (state.stop != 0u) {
+        state.done = 1u;
+    }
 }

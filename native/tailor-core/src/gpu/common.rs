@@ -94,8 +94,16 @@ pub struct StepState {
     pub mesh_contacts: u32,
     /// Overlapping cloth pairs of the last self-collision pass.
     pub self_pairs: u32,
+    /// Early stop: the substep has converged, iteration stages do nothing (set by `gate`).
+    pub done: u32,
+    /// Set by `reduce_omega` when the residual is under `tolerance` (see `common.wgsl`).
+    pub stop: u32,
+    pub tolerance: f32,
+    /// ‖m·g‖ over the free particles, the residual's floor in the early-stop test.
+    pub weight_norm: f32,
+    /// Iterations run in the frame.
+    pub iterations_run: u32,
     pub _pad0: u32,
-    pub _pad1: u32,
 }
 
 /// Mirror of WGSL `Particle` (32 bytes): each `vec3<f32>` is followed by a 4-byte scalar,

@@ -84,8 +84,17 @@ struct StepState {
     substep: u32,
     mesh_contacts: u32,
     self_pairs: u32,
+    // Early stop: `reduce_omega` sets `stop` when the substep has converged (the CPU's test in
+    // `Simulation::iterate`); `gate`, first in the next iteration, turns it into `done`, which
+    // every iteration stage reads before doing anything. `predict` clears both.
+    done: u32,
+    stop: u32,
+    tolerance: f32,
+    // The cloth's weight, ‖m·g‖ over the free particles: the residual's floor in the test.
+    weight_norm: f32,
+    // Iterations run in the frame (the host clears it before the frame).
+    iterations_run: u32,
     _pad0: u32,
-    _pad1: u32,
 }
 
 const PHASE_CLOSING: u32 = 0u;

@@ -13,7 +13,15 @@ pub const ENTRY: &str = "detect";
 pub const WORKGROUP: u32 = 64;
 
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    let mut e = vec![(0, &b.params), (2, &b.fdata), (3, &b.x), (4, &b.particles), (5, &b.colliders), (6, &b.contacts)];
+    let mut e = vec![
+        (0, &b.params),
+        (1, &b.state),
+        (2, &b.fdata),
+        (3, &b.x),
+        (4, &b.particles),
+        (5, &b.colliders),
+        (6, &b.contacts),
+    ];
     e.extend(super::mesh_query::entries(b));
     e
 }

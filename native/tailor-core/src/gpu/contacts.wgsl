@@ -15,6 +15,10 @@ const CONTACT_WEIGHT_FACTOR: f32 = 20.0;
 
 @compute @workgroup_size(64)
 fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the stage does nothing more.
+    if (state.done != 0u) {
+        return;
+    }
     let i = gid.x;
     if (i >= params.n) {
         return;

@@ -23,6 +23,7 @@ pub struct ColourRange {
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
     vec![
         (0, &b.params),
+        (1, &b.state),
         (3, &b.idx),
         (4, &b.fdata),
         (5, &b.x),

@@ -23,6 +23,10 @@ struct ColourRange {
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the stage does nothing more.
+    if (state.done != 0u) {
+        return;
+    }
     if (gid.x >= colour.count) {
         return;
     }

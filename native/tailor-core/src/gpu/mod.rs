@@ -49,8 +49,9 @@
 //!
 //! **Not yet on the GPU** (a [`Solver`](crate::engine::Solver) asked for the GPU runs such a
 //! frame on the CPU, that frame only, with the reason in its stats): the Jacobi method, the
-//! early stop on `tolerance` (it would need a readback per iteration), frames whose seams are
-//! closing, and more than [`collide_common::MAX_MESHES`] mesh colliders.
+//! early stop on `tolerance` with self-collision (without, `reduce_omega` sets a flag that
+//! every iteration stage reads: no readback), frames whose seams are closing, and more than
+//! [`collide_common::MAX_MESHES`] mesh colliders.
 //! Flat bending and seams are linear, so they are fully in the matrix and need no GPU kernel.
 
 pub mod attach;
@@ -275,6 +276,7 @@ struct Pipelines {
     self_gather: wgpu::ComputePipeline,
     self_apply: wgpu::ComputePipeline,
     attach: wgpu::ComputePipeline,
+    gate: wgpu::ComputePipeline,
 }
 
 struct BindGroups {
@@ -300,6 +302,7 @@ struct BindGroups {
     self_gather: wgpu::BindGroup,
     self_apply: wgpu::BindGroup,
     attach: wgpu::BindGroup,
+    gate: wgpu::BindGroup,
 }
 
 /// What the current upload was made for.
@@ -319,6 +322,8 @@ struct Uploaded {
     self_enabled: bool,
     self_buckets: usize,
     n_attach: usize,
+    /// The early stop is on (`tolerance` > 0): each iteration starts with `gate`.
+    early_stop: bool,
     colours: Vec<ColourRange>,
     h: f32,
     rho: f32,
@@ -442,6 +447,7 @@ impl GpuSolver {
             ramp: compile(&device, "ramp", ramp::SOURCE, ramp::ENTRY),
             mesh_lerp: compile(&device, "mesh_lerp", mesh_hash::SOURCE, mesh_hash::LERP_ENTRY),
             attach: compile(&device, "attach", attach::SOURCE, attach::ENTRY),
+            gate: compile(&device, "gate", chebyshev::SOURCE, chebyshev::GATE_ENTRY),
             mesh_count: compile(&device, "mesh_count", mesh_hash::SOURCE, mesh_hash::COUNT_ENTRY),
             mesh_scatter: compile(&device, "mesh_scatter", mesh_hash::SOURCE, mesh_hash::SCATTER_ENTRY),
             hash_scan: compile(&device, "hash_scan", hash::SOURCE, hash::SCAN_ENTRY),
@@ -493,8 +499,8 @@ impl GpuSolver {
         if view.settings.method == Method::Jacobi {
             return Some("the Jacobi method".into());
         }
-        if view.settings.tolerance > 0.0 {
-            return Some("the early stop on `tolerance` (needs a readback per iteration)".into());
+        if view.settings.tolerance > 0.0 && view.collide.self_settings.enabled {
+            return Some("the early stop on `tolerance` with self-collision".into());
         }
         // One dimension of dispatches covers 65535 workgroups of 64.
         let m = view.model;
@@ -778,7 +784,18 @@ impl GpuSolver {
             })
             .collect();
         let (phase, elapsed) = phase_to_gpu(view.ramp_phase);
-        let state = StepState { omega: 1.0, phase, elapsed, ..StepState::zeroed() };
+        // The early stop's floor, as `Simulation::prepare` computes it (gravity is not held on
+        // the GPU: frames whose seams close run on the CPU).
+        let g2 = view.settings.gravity.iter().map(|&g| (g as f64).powi(2)).sum::<f64>();
+        let weight_norm = (0..n).filter(|&i| !m.pinned[i]).map(|i| (m.mass[i] as f64).powi(2) * g2).sum::<f64>().sqrt();
+        let state = StepState {
+            omega: 1.0,
+            phase,
+            elapsed,
+            tolerance: view.settings.tolerance,
+            weight_norm: weight_norm as f32,
+            ..StepState::zeroed()
+        };
         q.write_buffer(&b.params, 0, bytemuck::bytes_of(&p));
         q.write_buffer(&b.state, 0, bytemuck::bytes_of(&state));
         q.write_buffer(&b.particles, 0, bytemuck::cast_slice(&particles));
@@ -907,6 +924,7 @@ impl GpuSolver {
                 self_gather: bind(d, &pl.self_gather, "self_gather", &self_collide::gather_entries(b)),
                 self_apply: bind(d, &pl.self_apply, "self_apply", &self_collide::apply_entries(b)),
                 attach: bind(d, &pl.attach, "attach", &attach::entries(b)),
+                gate: bind(d, &pl.gate, "gate", &chebyshev::gate_entries(b)),
             });
         }
         self.uploaded = Some(Uploaded {
@@ -923,6 +941,7 @@ impl GpuSolver {
             self_enabled,
             self_buckets,
             n_attach: attachments.len(),
+            early_stop: s.tolerance > 0.0,
             colours,
             h,
             rho: view.rho,
@@ -1009,6 +1028,9 @@ impl GpuSolver {
         let n = u.n;
         let accelerate = u.method == Method::Chebyshev;
         let pl = &self.pipelines;
+        // The frame's iteration count starts at zero (the early stop may run fewer).
+        let at = std::mem::offset_of!(StepState, iterations_run) as u64;
+        self.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&0u32));
         let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let xbytes = n as u64 * VEC4;
         enc.copy_buffer_to_buffer(&b.x, 0, &b.x_backup, 0, xbytes);
@@ -1048,7 +1070,12 @@ impl GpuSolver {
                     pass.set_bind_group(0, &g.attach, &[]);
                     pass.dispatch_workgroups(groups(u.n_attach, attach::WORKGROUP), 1, 1);
                 }
-                for _ in 0..iterations {
+                for k in 0..iterations {
+                    if u.early_stop && k > 0 {
+                        pass.set_pipeline(&pl.gate);
+                        pass.set_bind_group(0, &g.gate, &[]);
+                        pass.dispatch_workgroups(1, 1, 1);
+                    }
                     if u.n_colliders > 0 || u.n_meshes > 0 {
                         pass.set_pipeline(&pl.detect);
                         pass.set_bind_group(0, &g.detect, &[]);
@@ -1136,7 +1163,7 @@ impl GpuSolver {
         sim.accept_backend_state(Some(x), phase, h as f64 * substeps as f64);
         let mut stats = StepStats {
             substeps,
-            iterations: substeps * iterations,
+            iterations: state.iterations_run,
             residual: state.residual,
             colours: n_colours,
             rho: if accelerate { rho } else { 0.0 },

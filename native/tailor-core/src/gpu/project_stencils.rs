@@ -7,7 +7,7 @@ pub const ENTRY: &str = "main";
 pub const WORKGROUP: u32 = 64;
 
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (2, &b.idx), (3, &b.fdata), (4, &b.x), (5, &b.slots)]
+    vec![(0, &b.params), (1, &b.state), (2, &b.idx), (3, &b.fdata), (4, &b.x), (5, &b.slots)]
 }
 
 #[cfg(test)]

@@ -10,6 +10,10 @@
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the stage does nothing more.
+    if (state.done != 0u) {
+        return;
+    }
     let c = gid.x;
     if (c >= params.n_curved) {
         return;

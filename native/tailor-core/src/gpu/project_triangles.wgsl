@@ -17,6 +17,10 @@ fn unit_or_same(c: vec3<f32>) -> vec3<f32> {
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the stage does nothing more.
+    if (state.done != 0u) {
+        return;
+    }
     let t = gid.x;
     if (t >= params.n_tris) {
         return;

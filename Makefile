@@ -20,13 +20,13 @@ test: setup develop test-rust test-python
 
 test-rust:
 	cargo test --workspace --release
-	# The wgpu backend (feature gpu) on whatever Vulkan adapter exists (lavapipe in CI); its
-	# tests print SKIP and pass when there is none.
-	cargo test -p tailor-core --release --features gpu --test gpu_solver
+	# The wgpu backend (feature gpu) on lavapipe (installed by setup) or a real adapter:
+	# TAILOR_REQUIRE_GPU=1 makes a GPU test that finds no adapter fail instead of skipping.
+	TAILOR_REQUIRE_GPU=1 cargo test -p tailor-core --release --features gpu --test gpu_solver
 	cargo test -p tailor-core --release --features gpu --lib gpu::
 
 test-python: develop
-	$(PY) -m pytest -q tests --ignore=tests/addon --ignore=tests/gui
+	TAILOR_REQUIRE_GPU=1 $(PY) -m pytest -q tests --ignore=tests/addon --ignore=tests/gui
 	$(MAKE) test-addon
 	$(MAKE) test-gui
 

@@ -284,3 +284,17 @@ def test_a_failed_frame_is_recorded_as_nan_and_the_run_goes_on(square):
     np.testing.assert_array_equal(run.frames[-1], run.frames[-2])
     assert run.start_metrics is ref and run.next_frame == 4
     assert run.step(moving_box(4))["frame"] == 4 and run.summary()["nan"]
+
+
+def test_records_say_which_backend_solved_each_frame(tube):
+    """Every solved frame's record carries the backend that solved it and why the CPU did when
+    the GPU was asked for; the summary counts frames per backend. Asked for the CPU, every frame
+    is the CPU's, with no warning."""
+    sim = tailor.Simulation(tube["positions"], tube["triangles"], tube["rest"], backend="cpu")
+    run = bake.Bake(sim, [], fps=30.0, start=1)
+    for _ in range(4):
+        run.step([])
+    assert run.records[0]["backend"] is None  # the start frame: no step of its own
+    assert [r["backend"] for r in run.records[1:]] == ["cpu"] * 3
+    assert all(r["backend_warning"] is None for r in run.records)
+    assert run.summary()["backends"] == {"cpu": 3}

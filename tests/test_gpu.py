@@ -24,7 +24,11 @@ def strip(backend="auto", method="gauss_seidel"):
 
 
 def gpu_or_skip(sim):
+    """The simulation on the GPU; without an adapter the test skips, or fails where one is
+    required (`TAILOR_REQUIRE_GPU=1`: `make test`, whose setup installs lavapipe)."""
     if sim.backend != "gpu":
+        if os.environ.get("TAILOR_REQUIRE_GPU") == "1":
+            pytest.fail(f"TAILOR_REQUIRE_GPU=1 but no GPU adapter: {sim.backend_warning}")
         pytest.skip(f"no GPU adapter: {sim.backend_warning}")
     return sim
 

@@ -91,13 +91,20 @@ def summarize(records: Sequence[dict]) -> dict:
     on, the assembled ones (`assembled_frames` of them): the smallest `on_body_fraction` and the
     largest `centroid_shift_m` (None when no frame is assembled or there is no collider). And the
     `verdict`: each check that some record failed (in `judge`'s order) with the first frame that
-    failed it and that frame's reason, [] when every frame passed."""
+    failed it and that frame's reason, [] when every frame passed. `backends`: how many frames
+    each backend solved (records of `Bake.step` carry `backend` and `backend_warning`)."""
     if not records:
         return {"frame": 0, "ms": 0.0, "nan": False, **{k: 0 for k in FIELDS}, "assembled_frames": 0,
-                "on_body_fraction": None, "centroid_shift_m": None, "verdict": []}
+                "on_body_fraction": None, "centroid_shift_m": None, "verdict": [], "backends": {}}
     s = {k: max(r[k] for r in records) for k in FIELDS}
     s.update(frame=len(records), ms=float(np.mean([r["ms"] for r in records])), nan=any(r["nan"] for r in records))
     s.update(on_body_worst(records), verdict=verdict_of(records))
+    # Frames per backend that solved them ({"cpu": 40, "gpu": 20}), where the records say.
+    backends: dict[str, int] = {}
+    for r in records:
+        if r.get("backend"):
+            backends[r["backend"]] = backends.get(r["backend"], 0) + 1
+    s["backends"] = backends
     return s
 
 
@@ -323,18 +330,23 @@ class Bake:
         `SimulationError` (the solve diverged; the simulation is rolled back) and records
         nothing in that case."""
         t0 = time.perf_counter()
+        stats = None
         if not self.frames:
             if not self.prerolled:
                 self._assemble(collider_positions)
             self._set_colliders(collider_positions)
         else:
             self._set_colliders(collider_positions)
-            self._solve(1.0 / self.fps)
+            stats = self._solve(1.0 / self.fps)
         ms = (time.perf_counter() - t0) * 1e3
         pos = self.sim.positions
         m = self.sim.metrics(self.metrics_collider)
         self.start_metrics = judged_from(self.start_metrics, m)
         rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider, self.start_metrics, m)
+        # Which backend solved the frame, and why the CPU did when the GPU was asked for (None:
+        # the start frame, solved by no step of its own).
+        rec["backend"] = None if stats is None else stats.get("backend")
+        rec["backend_warning"] = None if stats is None else stats.get("warning")
         self.frames.append(pos)
         self.records.append(rec)
         return rec

@@ -68,9 +68,14 @@ fn tube_with(method: Method) -> Simulation {
 }
 
 /// A GPU solver for `sim`, or `None` (with a printed note) when there is no adapter.
+/// The simulation on the GPU; without an adapter the test prints SKIP and passes, or fails
+/// where one is required (`TAILOR_REQUIRE_GPU=1`: `make test`, whose setup installs lavapipe).
 fn gpu(sim: Simulation, test: &str) -> Option<Solver> {
     let s = Solver::new(sim, Backend::Gpu);
     if s.active_backend() != ActiveBackend::Gpu {
+        if std::env::var("TAILOR_REQUIRE_GPU").as_deref() == Ok("1") {
+            panic!("{test}: TAILOR_REQUIRE_GPU=1 but no GPU adapter: {}", s.warning().unwrap_or("none found"));
+        }
         println!("SKIP {test}: {}", s.warning().unwrap_or("no GPU adapter"));
         return None;
     }

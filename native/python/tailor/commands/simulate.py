@@ -121,7 +121,8 @@ def run(args):
             print(f"frame {f:4d}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
                   f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
                   f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "
-                  f"on body {rec['on_body_fraction'] * 100:.0f} %, centroid moved {rec['centroid_shift_m'] * 1e2:.1f} cm")
+                  f"on body {rec['on_body_fraction'] * 100:.0f} %, centroid moved {rec['centroid_shift_m'] * 1e2:.1f} cm, "
+                  f"on the {(rec.get('backend') or '-').upper()}")
     summary = bake.summarize(frames)
     report = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
               "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached)}

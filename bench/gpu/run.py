@@ -1,0 +1,138 @@
+"""``make bench-gpu``: the GPU engine against the CPU on this machine, as one table.
+
+What a machine with a GPU runs once (issue 27: prepare here, run there), in minutes:
+
+1. the solver alone on growing cloths with body and self collision (the core's `gpu_bench
+   --collisions`: 10k, 100k and 1M particles, an animated sphere-mesh body, self-collision on),
+   ms per frame on each backend;
+2. the four sample garments on the sample character's walk (``tailor simulate`` with
+   ``--backend gpu`` and ``--backend cpu``, the Final preset): ms per frame (median of the frames
+   after assembly), how many frames each backend solved, and the two runs' seam gap,
+   penetration and strain at the last frame, so a GPU figure is never read without its
+   agreement with the CPU.
+
+Writes ``OUT/bench-gpu.md`` (the tables, the adapter, the command, the commit and the machine)
+and the raw reports beside it. Usage: ``python bench/gpu/run.py [--out out/bench-gpu]
+[--frames 90] [--sizes 10000 100000 1000000] [--budget 2] [--samples tshirt,skirt,trousers,layered]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[2]
+SAMPLES = REPO / "sample_blends"
+
+
+def sh(cmd: list[str], **kw) -> subprocess.CompletedProcess:
+    print("$ " + " ".join(cmd), flush=True)
+    return subprocess.run(cmd, cwd=REPO, text=True, capture_output=True, **kw)
+
+
+def machine() -> str:
+    cpu = platform.processor() or platform.machine()
+    try:
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+        cpu = next((ln.split(":", 1)[1].strip() for ln in lines if ln.startswith("model name")), cpu)
+    except OSError:
+        pass
+    load = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    return f"{os.cpu_count()} × {cpu}, load average {load}"
+
+
+def commit() -> str:
+    r = sh(["git", "rev-parse", "--short", "HEAD"])
+    return r.stdout.strip() or "unknown"
+
+
+def solver_table(sizes: list[str], budget: float) -> str:
+    """The core's benchmark with body and self collision (its Markdown table as printed)."""
+    cmd = ["cargo", "run", "--release", "-q", "-p", "tailor-core", "--features", "gpu", "--example", "gpu_bench",
+           "--", "--collisions", "--budget", str(budget), *sizes]
+    r = sh(cmd)
+    if r.returncode != 0:
+        return f"`{' '.join(cmd)}` failed:\n\n```\n{r.stderr[-2000:]}\n```\n"
+    return f"`{' '.join(cmd)}`\n\n{r.stdout}\n"
+
+
+def sample_run(name: str, backend: str, frames: int, out: Path) -> dict:
+    report = out / f"{name}-{backend}.json"
+    cmd = [sys.executable, "-m", "tailor", "simulate", str(SAMPLES / f"{name}.json"), "--collider",
+           str(SAMPLES / "character.glb"), "--frames", str(frames), "--backend", backend, "--preset", "final",
+           "--report", str(report)]
+    t0 = time.perf_counter()
+    r = sh(cmd)
+    wall = time.perf_counter() - t0
+    if not report.exists():
+        return {"error": (r.stderr or r.stdout).strip().splitlines()[-1:] or ["no report"], "wall_s": wall}
+    rep = json.loads(report.read_text())
+    recs = rep["frames"]
+    assembled = [f for f in recs if not f.get("seams_closing")] or recs
+    last = recs[-1]
+    return {
+        "ms_median": float(np.median([f["ms"] for f in assembled])),
+        "backends": rep["summary"].get("backends", {}),
+        "seam_gap_mm": last["seam_gap_max_m"] * 1e3,
+        "penetration_mm": last["penetration_max_m"] * 1e3,
+        "strain_max": last["strain_max"],
+        "verdict": [v["check"] for v in rep["summary"]["verdict"]],
+        "adapter": rep.get("adapter"),
+        "particles": None,
+        "wall_s": wall,
+    }
+
+
+def samples_table(names: list[str], frames: int, out: Path) -> tuple[str, str | None]:
+    rows = ["| sample | backend | frames solved (cpu / gpu) | ms/frame, assembled (median) | seam gap, mm | "
+            "penetration, mm | strain max | verdict |", "|---|---|---|---:|---:|---:|---:|---|"]
+    adapter = None
+    for name in names:
+        for backend in ("gpu", "cpu"):
+            r = sample_run(name, backend, frames, out)
+            if "error" in r:
+                rows.append(f"| {name} | {backend} | failed: {' '.join(r['error'])} | | | | | |")
+                continue
+            adapter = adapter or r["adapter"]
+            b = r["backends"]
+            rows.append(f"| {name} | {backend} | {b.get('cpu', 0)} / {b.get('gpu', 0)} | {r['ms_median']:.1f} | "
+                        f"{r['seam_gap_mm']:.2f} | {r['penetration_mm']:.2f} | {r['strain_max']:.3f} | "
+                        f"{', '.join(r['verdict']) or 'passes'} |")
+    return "\n".join(rows) + "\n", adapter
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default="out/bench-gpu")
+    ap.add_argument("--frames", type=int, default=90)
+    ap.add_argument("--sizes", nargs="*", default=["10000", "100000", "1000000"])
+    ap.add_argument("--budget", type=float, default=2.0)
+    ap.add_argument("--samples", default="tshirt,skirt,trousers,layered")
+    args = ap.parse_args(argv)
+    out = (REPO / args.out) if not Path(args.out).is_absolute() else Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    before = machine()
+    solver = solver_table(args.sizes, args.budget) if args.sizes else ""
+    samples, adapter = samples_table([s for s in args.samples.split(",") if s], args.frames, out)
+    text = (f"# bench-gpu\n\nCommand: `python bench/gpu/run.py {' '.join(argv or sys.argv[1:])}` ({started}, commit "
+            f"{commit()}). Machine: {before}; at the end: {machine()}. GPU adapter: {adapter or 'none'}.\n\n"
+            f"## The solver alone, body and self collision\n\n{solver}\n"
+            f"## The samples on the walk, Final preset ({args.frames} frames; frames whose seams close run on "
+            f"the CPU by design)\n\n{samples}")
+    (out / "bench-gpu.md").write_text(text)
+    print(text)
+    print(f"wrote {out / 'bench-gpu.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

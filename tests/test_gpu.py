@@ -77,6 +77,7 @@ def test_gpu_matches_the_cpu_on_a_small_scene():
         a = sim_cpu.step(1 / 30)
         b = sim_gpu.step(1 / 30)
         assert b["backend"] == "gpu" and b["adapter"] == sim_gpu.adapter and b["warning"] is None
+        assert a["dispatches"] == 0 and b["dispatches"] > 0
         assert a["ramp_phase"] == b["ramp_phase"]
         worst = max(worst, float(np.abs(sim_cpu.positions - sim_gpu.positions).max()))
     # Plain Gauss-Seidel: f32 rounding only (the Rust tests bound the same scene by 2e-5 m).

@@ -367,6 +367,11 @@ fn the_early_stop_runs_on_the_gpu_as_on_the_cpu() {
         let a = cpu.step(1.0 / 30.0).unwrap();
         let b = g.step(1.0 / 30.0).unwrap();
         assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: {:?}", b.warning);
+        // The frame plan: per substep predict, finish, ramp, and per iteration project, the
+        // colours' sweeps, reduce (no extrapolation: Gauss-Seidel), a gate from the second on.
+        let per_iteration = 1 + b.colours + 1;
+        let planned = b.substeps as usize * (3 + 30 * per_iteration + 29);
+        assert_eq!((a.dispatches, b.dispatches), (0, planned), "frame {f}");
         assert!(
             a.iterations.abs_diff(b.iterations) <= a.substeps,
             "frame {f}: {} iterations on the CPU, {} on the GPU",

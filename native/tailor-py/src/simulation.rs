@@ -131,6 +131,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &StepStats, adapter: Option<String>) -> P
     d.set_item("seam_gap_max", s.seam_gap_max)?;
     d.set_item("seam_closed_fraction", s.seam_closed_fraction)?;
     d.set_item("contacts", s.contacts)?;
+    d.set_item("dispatches", s.dispatches)?;
     d.set_item("collision", crate::colliders::collision_stats_dict(py, &s.collision)?)?;
     Ok(d)
 }

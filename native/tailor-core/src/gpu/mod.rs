@@ -64,6 +64,7 @@ pub mod gauss_seidel;
 pub mod hash;
 pub mod mesh_hash;
 pub mod mesh_query;
+mod plan;
 pub mod predict;
 pub mod project_stencils;
 pub mod project_triangles;
@@ -1023,7 +1024,7 @@ impl GpuSolver {
         }
         // Build the colliders' hash every substep while one moves, else once after an upload.
         let rebuild_each_substep = u.n_meshes > 0 && moving;
-        let mut rebuild_first = u.n_meshes > 0 && !self.mesh_hash_valid;
+        let rebuild_first = u.n_meshes > 0 && !self.mesh_hash_valid;
         let rebuilds = if rebuild_each_substep { substeps } else { rebuild_first as u32 };
         let n = u.n;
         let accelerate = u.method == Method::Chebyshev;
@@ -1031,6 +1032,8 @@ impl GpuSolver {
         // The frame's iteration count starts at zero (the early stop may run fewer).
         let at = std::mem::offset_of!(StepState, iterations_run) as u64;
         self.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&0u32));
+        let plan = plan::frame(pl, g, u, substeps, iterations, rebuild_each_substep, rebuild_first);
+        let dispatches = plan.len();
         let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let xbytes = n as u64 * VEC4;
         enc.copy_buffer_to_buffer(&b.x, 0, &b.x_backup, 0, xbytes);
@@ -1041,100 +1044,10 @@ impl GpuSolver {
             // storage buffers, so colours and stages see each other's writes.
             let mut pass = enc
                 .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("substeps"), timestamp_writes: None });
-            for _ in 0..substeps {
-                pass.set_pipeline(&pl.predict);
-                pass.set_bind_group(0, &g.predict, &[]);
-                pass.dispatch_workgroups(groups(n, predict::WORKGROUP), 1, 1);
-                if rebuild_each_substep || rebuild_first {
-                    rebuild_first = false;
-                    let wg = mesh_hash::WORKGROUP;
-                    pass.set_pipeline(&pl.mesh_lerp);
-                    pass.set_bind_group(0, &g.mesh_lerp, &[]);
-                    pass.dispatch_workgroups(groups(u.n_mesh_verts, wg), 1, 1);
-                    pass.set_pipeline(&pl.mesh_count);
-                    pass.set_bind_group(0, &g.mesh_count, &[]);
-                    pass.dispatch_workgroups(groups(u.n_mesh_tris, wg), 1, 1);
-                    pass.set_pipeline(&pl.hash_scan);
-                    pass.set_bind_group(0, &g.mesh_scan, &[]);
-                    pass.dispatch_workgroups(1, 1, 1);
-                    pass.set_pipeline(&pl.mesh_scatter);
-                    pass.set_bind_group(0, &g.mesh_scatter, &[]);
-                    pass.dispatch_workgroups(groups(u.n_mesh_tris, wg), 1, 1);
-                    pass.set_pipeline(&pl.hash_sort);
-                    pass.set_bind_group(0, &g.mesh_sort, &[]);
-                    pass.dispatch_workgroups(groups(u.mesh_buckets, hash::WORKGROUP), 1, 1);
-                }
-                if u.n_attach > 0 {
-                    // After `lerp`: the targets at this substep's collider positions.
-                    pass.set_pipeline(&pl.attach);
-                    pass.set_bind_group(0, &g.attach, &[]);
-                    pass.dispatch_workgroups(groups(u.n_attach, attach::WORKGROUP), 1, 1);
-                }
-                for k in 0..iterations {
-                    if u.early_stop && k > 0 {
-                        pass.set_pipeline(&pl.gate);
-                        pass.set_bind_group(0, &g.gate, &[]);
-                        pass.dispatch_workgroups(1, 1, 1);
-                    }
-                    if u.n_colliders > 0 || u.n_meshes > 0 {
-                        pass.set_pipeline(&pl.detect);
-                        pass.set_bind_group(0, &g.detect, &[]);
-                        pass.dispatch_workgroups(groups(n, contacts::WORKGROUP), 1, 1);
-                    }
-                    pass.set_pipeline(&pl.project);
-                    pass.set_bind_group(0, &g.project, &[]);
-                    pass.dispatch_workgroups(groups(u.n_tris, project_triangles::WORKGROUP), 1, 1);
-                    if u.n_curved > 0 {
-                        pass.set_pipeline(&pl.project_stencils);
-                        pass.set_bind_group(0, &g.project_stencils, &[]);
-                        pass.dispatch_workgroups(groups(u.n_curved, project_stencils::WORKGROUP), 1, 1);
-                    }
-                    pass.set_pipeline(&pl.gauss_seidel);
-                    for (c, range) in u.colours.iter().enumerate() {
-                        pass.set_bind_group(0, &g.gauss_seidel[c], &[]);
-                        pass.dispatch_workgroups(groups(range.count as usize, gauss_seidel::WORKGROUP), 1, 1);
-                    }
-                    pass.set_pipeline(&pl.reduce);
-                    pass.set_bind_group(0, &g.reduce, &[]);
-                    pass.dispatch_workgroups(1, 1, 1);
-                    if accelerate {
-                        pass.set_pipeline(&pl.extrapolate);
-                        pass.set_bind_group(0, &g.extrapolate, &[]);
-                        pass.dispatch_workgroups(groups(n, chebyshev::WORKGROUP), 1, 1);
-                    }
-                    if u.self_enabled {
-                        let wg = self_collide::WORKGROUP;
-                        pass.set_pipeline(&pl.self_count);
-                        pass.set_bind_group(0, &g.self_count, &[]);
-                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
-                        pass.set_pipeline(&pl.hash_scan);
-                        pass.set_bind_group(0, &g.self_scan, &[]);
-                        pass.dispatch_workgroups(1, 1, 1);
-                        pass.set_pipeline(&pl.self_scatter);
-                        pass.set_bind_group(0, &g.self_scatter, &[]);
-                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
-                        pass.set_pipeline(&pl.hash_sort);
-                        pass.set_bind_group(0, &g.self_sort, &[]);
-                        pass.dispatch_workgroups(groups(u.self_buckets, hash::WORKGROUP), 1, 1);
-                        pass.set_pipeline(&pl.self_gather);
-                        pass.set_bind_group(0, &g.self_gather, &[]);
-                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
-                        pass.set_pipeline(&pl.self_apply);
-                        pass.set_bind_group(0, &g.self_apply, &[]);
-                        pass.dispatch_workgroups(groups(n, wg), 1, 1);
-                    }
-                }
-                if u.n_meshes > 0 {
-                    pass.set_pipeline(&pl.resolve_mesh);
-                    pass.set_bind_group(0, &g.resolve_mesh, &[]);
-                    pass.dispatch_workgroups(groups(n, resolve_mesh::WORKGROUP), 1, 1);
-                }
-                pass.set_pipeline(&pl.finish);
-                pass.set_bind_group(0, &g.finish, &[]);
-                pass.dispatch_workgroups(groups(n, finish::WORKGROUP), 1, 1);
-                pass.set_pipeline(&pl.ramp);
-                pass.set_bind_group(0, &g.ramp, &[]);
-                pass.dispatch_workgroups(1, 1, 1);
+            for d in &plan {
+                pass.set_pipeline(d.pipeline);
+                pass.set_bind_group(0, d.bind, &[]);
+                pass.dispatch_workgroups(d.groups, 1, 1);
             }
         }
         enc.copy_buffer_to_buffer(&b.x, 0, &b.readback, 0, xbytes);
@@ -1182,6 +1095,7 @@ impl GpuSolver {
             },
             backend: ActiveBackend::Gpu,
             warning: None,
+            dispatches,
             ..Default::default()
         };
         // Stages are not timed separately on the GPU (no timestamp queries): the whole frame,
@@ -1249,16 +1163,9 @@ impl GpuSolver {
     /// Dispatches one frame of `substeps` × `iterations` records for the uploaded scene (the
     /// collider hash counted as built every substep, i.e. a moving collider).
     pub fn dispatches_per_frame(&self, substeps: u32, iterations: u32) -> usize {
-        let Some(u) = &self.uploaded else { return 0 };
-        let per_iteration = (u.n_colliders > 0 || u.n_meshes > 0) as usize
-            + 1
-            + (u.n_curved > 0) as usize
-            + u.colours.len()
-            + 1
-            + (u.method == Method::Chebyshev) as usize
-            + if u.self_enabled { 6 } else { 0 };
-        let per_substep = 1 + if u.n_meshes > 0 { 5 + 1 } else { 0 } + iterations as usize * per_iteration + 2;
-        substeps as usize * per_substep
+        let (Some(u), Some(g)) = (&self.uploaded, &self.binds) else { return 0 };
+        // A moving collider's hash is rebuilt every substep (the benchmarks' case).
+        plan::frame(&self.pipelines, g, u, substeps, iterations, u.n_meshes > 0, false).len()
     }
 
     /// Runs one frame's worth of dispatches ([`GpuSolver::dispatches_per_frame`]) of one

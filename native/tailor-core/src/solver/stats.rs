@@ -43,6 +43,8 @@ pub struct StepStats {
     pub backend: ActiveBackend,
     /// Why a requested GPU backend is not in use (no adapter, unsupported feature), if so.
     pub warning: Option<String>,
+    /// Compute dispatches the GPU recorded for the step (its frame plan's length; 0 on the CPU).
+    pub dispatches: usize,
 }
 
 /// Collision work of a step, summed over its substeps.

@@ -1,0 +1,92 @@
+//! A frame's plan: every compute dispatch of one GPU frame, in order, as a list.
+//!
+//! The frame records exactly this list into one compute pass, and the dispatch count that
+//! benchmarks and the step statistics report is this list's length, so the count is never
+//! kept by hand beside the recording (it had drifted: new stages were recorded but not
+//! counted). Per substep, the stages of the CPU's substep in its order:
+//!
+//! 1. `predict`; when the colliders' hash is rebuilt (every substep while one moves, else once
+//!    after an upload) `lerp`, `count`, `scan`, `scatter`, `sort`; `attach` (riding pins);
+//! 2. per iteration: `gate` (early stop on, from the second iteration), `detect` (colliders),
+//!    `project` (triangles), `project_stencils` (curved), `gauss_seidel` (one per colour),
+//!    `reduce_omega`, `extrapolate` (Chebyshev), the six self-collision passes;
+//! 3. `resolve_mesh` (mesh colliders), `finish`, `ramp`.
+
+use super::{
+    attach, chebyshev, contacts, gauss_seidel, groups, hash, mesh_hash, predict, project_stencils, project_triangles,
+    resolve_mesh, self_collide, BindGroups, Method, Pipelines, Uploaded,
+};
+
+/// One dispatch: a stage's pipeline, its bind group and the workgroups to launch.
+pub(super) struct Dispatch<'a> {
+    pub pipeline: &'a wgpu::ComputePipeline,
+    pub bind: &'a wgpu::BindGroup,
+    pub groups: u32,
+}
+
+/// The dispatches of one frame of `substeps` × `iterations` for the uploaded scene `u`;
+/// `rebuild_each_substep`: a collider moves (its hash is rebuilt every substep), else
+/// `rebuild_first`: built once, in the first substep.
+pub(super) fn frame<'a>(
+    pl: &'a Pipelines,
+    g: &'a BindGroups,
+    u: &Uploaded,
+    substeps: u32,
+    iterations: u32,
+    rebuild_each_substep: bool,
+    mut rebuild_first: bool,
+) -> Vec<Dispatch<'a>> {
+    let n = u.n;
+    let mut plan = Vec::new();
+    let mut add = |pipeline, bind, groups| plan.push(Dispatch { pipeline, bind, groups });
+    for _ in 0..substeps {
+        add(&pl.predict, &g.predict, groups(n, predict::WORKGROUP));
+        if rebuild_each_substep || rebuild_first {
+            rebuild_first = false;
+            let wg = mesh_hash::WORKGROUP;
+            add(&pl.mesh_lerp, &g.mesh_lerp, groups(u.n_mesh_verts, wg));
+            add(&pl.mesh_count, &g.mesh_count, groups(u.n_mesh_tris, wg));
+            add(&pl.hash_scan, &g.mesh_scan, 1);
+            add(&pl.mesh_scatter, &g.mesh_scatter, groups(u.n_mesh_tris, wg));
+            add(&pl.hash_sort, &g.mesh_sort, groups(u.mesh_buckets, hash::WORKGROUP));
+        }
+        if u.n_attach > 0 {
+            // After `lerp`: the targets at this substep's collider positions.
+            add(&pl.attach, &g.attach, groups(u.n_attach, attach::WORKGROUP));
+        }
+        for k in 0..iterations {
+            if u.early_stop && k > 0 {
+                add(&pl.gate, &g.gate, 1);
+            }
+            if u.n_colliders > 0 || u.n_meshes > 0 {
+                add(&pl.detect, &g.detect, groups(n, contacts::WORKGROUP));
+            }
+            add(&pl.project, &g.project, groups(u.n_tris, project_triangles::WORKGROUP));
+            if u.n_curved > 0 {
+                add(&pl.project_stencils, &g.project_stencils, groups(u.n_curved, project_stencils::WORKGROUP));
+            }
+            for (c, range) in u.colours.iter().enumerate() {
+                add(&pl.gauss_seidel, &g.gauss_seidel[c], groups(range.count as usize, gauss_seidel::WORKGROUP));
+            }
+            add(&pl.reduce, &g.reduce, 1);
+            if u.method == Method::Chebyshev {
+                add(&pl.extrapolate, &g.extrapolate, groups(n, chebyshev::WORKGROUP));
+            }
+            if u.self_enabled {
+                let wg = self_collide::WORKGROUP;
+                add(&pl.self_count, &g.self_count, groups(n, wg));
+                add(&pl.hash_scan, &g.self_scan, 1);
+                add(&pl.self_scatter, &g.self_scatter, groups(n, wg));
+                add(&pl.hash_sort, &g.self_sort, groups(u.self_buckets, hash::WORKGROUP));
+                add(&pl.self_gather, &g.self_gather, groups(n, wg));
+                add(&pl.self_apply, &g.self_apply, groups(n, wg));
+            }
+        }
+        if u.n_meshes > 0 {
+            add(&pl.resolve_mesh, &g.resolve_mesh, groups(n, resolve_mesh::WORKGROUP));
+        }
+        add(&pl.finish, &g.finish, groups(n, super::finish::WORKGROUP));
+        add(&pl.ramp, &g.ramp, 1);
+    }
+    plan
+}

@@ -55,6 +55,7 @@
 //! Flat bending and seams are linear, so they are fully in the matrix and need no GPU kernel.
 
 pub mod attach;
+mod buffers;
 pub mod chebyshev;
 pub mod collide_common;
 pub mod common;
@@ -64,6 +65,7 @@ pub mod gauss_seidel;
 pub mod hash;
 pub mod mesh_hash;
 pub mod mesh_query;
+mod pipelines;
 mod plan;
 pub mod predict;
 pub mod project_stencils;
@@ -92,6 +94,10 @@ use common::{
 };
 use gauss_seidel::ColourRange;
 use predict::Particle;
+
+pub use buffers::Buffers;
+use buffers::{Capacities, STATE_BYTES, VEC4};
+use pipelines::{BindGroups, Pipelines};
 
 /// Set to `1` to make adapter discovery fail (tests of the CPU fallback).
 pub const FORCE_NO_ADAPTER_ENV: &str = "TAILOR_GPU_FORCE_NO_ADAPTER";
@@ -122,188 +128,6 @@ impl std::fmt::Display for GpuFailure {
             GpuFailure::Device(s) => write!(f, "GPU device: {s}"),
         }
     }
-}
-
-/// Every GPU buffer the stages bind (names match the WGSL variables).
-pub struct Buffers {
-    pub params: wgpu::Buffer,
-    pub state: wgpu::Buffer,
-    pub particles: wgpu::Buffer,
-    pub x: wgpu::Buffer,
-    pub v: wgpu::Buffer,
-    pub x_start: wgpu::Buffer,
-    pub rhs: wgpu::Buffer,
-    pub prev: wgpu::Buffer,
-    pub cur: wgpu::Buffer,
-    pub slots: wgpu::Buffer,
-    pub norms: wgpu::Buffer,
-    pub idx: wgpu::Buffer,
-    pub fdata: wgpu::Buffer,
-    pub colours: wgpu::Buffer,
-    pub contacts: wgpu::Buffer,
-    pub colliders: wgpu::Buffer,
-    /// Mesh colliders: the per-frame uniform, vertex sections (see `mesh_query.wgsl`), and the
-    /// hash table's bucket counts, starts and entries, with its size uniform.
-    pub meshes: wgpu::Buffer,
-    pub mverts: wgpu::Buffer,
-    pub mcounts: wgpu::Buffer,
-    pub mtable: wgpu::Buffer,
-    pub mesh_table_info: wgpu::Buffer,
-    /// Self-collision: the particle table and each particle's averaged correction.
-    pub scounts: wgpu::Buffer,
-    pub stable: wgpu::Buffer,
-    pub sdelta: wgpu::Buffer,
-    pub self_table_info: wgpu::Buffer,
-    /// Collider attachments (`attach.wgsl`) and their count.
-    pub attachments: wgpu::Buffer,
-    pub attach_info: wgpu::Buffer,
-    x_backup: wgpu::Buffer,
-    v_backup: wgpu::Buffer,
-    state_backup: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    caps: Capacities,
-}
-
-/// Element capacities of the size-dependent buffers; buffers are reused while they fit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-struct Capacities {
-    n: usize,
-    slots: usize,
-    idx: usize,
-    fdata: usize,
-    colours: usize,
-    colliders: usize,
-    mesh_verts: usize,
-    mesh_tris: usize,
-    mesh_buckets: usize,
-    mesh_entries: usize,
-    self_buckets: usize,
-    attachments: usize,
-}
-
-impl Capacities {
-    fn fits(&self, need: &Capacities) -> bool {
-        need.n <= self.n
-            && need.slots <= self.slots
-            && need.idx <= self.idx
-            && need.fdata <= self.fdata
-            && need.colours <= self.colours
-            && need.colliders <= self.colliders
-            && need.mesh_verts <= self.mesh_verts
-            && need.mesh_tris <= self.mesh_tris
-            && need.mesh_buckets <= self.mesh_buckets
-            && need.mesh_entries <= self.mesh_entries
-            && need.self_buckets <= self.self_buckets
-            && need.attachments <= self.attachments
-    }
-}
-
-const VEC4: u64 = 16;
-const STATE_BYTES: u64 = std::mem::size_of::<StepState>() as u64;
-
-impl Buffers {
-    fn new(device: &wgpu::Device, caps: Capacities, colour_stride: u64) -> Self {
-        use wgpu::BufferUsages as U;
-        let storage = U::STORAGE | U::COPY_DST | U::COPY_SRC;
-        // wgpu rejects zero-sized bindings: every buffer holds at least one element.
-        let mk = |label: &str, bytes: u64, usage: U| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes.max(16).next_multiple_of(4),
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        let n = caps.n as u64;
-        Self {
-            params: mk("params", std::mem::size_of::<Params>() as u64, U::UNIFORM | U::COPY_DST),
-            state: mk("state", STATE_BYTES, storage),
-            particles: mk("particles", n * std::mem::size_of::<Particle>() as u64, storage),
-            x: mk("x", n * VEC4, storage),
-            v: mk("v", n * VEC4, storage),
-            x_start: mk("x_start", n * VEC4, storage),
-            rhs: mk("rhs", n * VEC4, storage),
-            prev: mk("prev", n * VEC4, storage),
-            cur: mk("cur", n * VEC4, storage),
-            slots: mk("slots", caps.slots as u64 * VEC4, storage),
-            norms: mk("norms", n * 8, storage),
-            idx: mk("idx", caps.idx as u64 * 4, storage),
-            fdata: mk("fdata", caps.fdata as u64 * 4, storage),
-            colours: mk("colours", caps.colours.max(1) as u64 * colour_stride, U::UNIFORM | U::COPY_DST),
-            contacts: mk("contacts", n * std::mem::size_of::<Contact>() as u64, storage),
-            colliders: mk("colliders", caps.colliders.max(1) as u64 * std::mem::size_of::<Collider>() as u64, storage),
-            meshes: mk("meshes", std::mem::size_of::<Meshes>() as u64, U::UNIFORM | U::COPY_DST),
-            mverts: mk("mverts", (4 * caps.mesh_verts + caps.mesh_tris) as u64 * VEC4, storage),
-            mcounts: mk("mcounts", caps.mesh_buckets as u64 * 4, storage),
-            mtable: mk("mtable", (caps.mesh_buckets + 1 + 4 * caps.mesh_entries) as u64 * 4, storage),
-            mesh_table_info: mk("mesh_table_info", 16, U::UNIFORM | U::COPY_DST),
-            scounts: mk("scounts", caps.self_buckets as u64 * 4, storage),
-            stable: mk("stable", (caps.self_buckets + 1 + 4 * n as usize) as u64 * 4, storage),
-            sdelta: mk("sdelta", n * VEC4, storage),
-            self_table_info: mk("self_table_info", 16, U::UNIFORM | U::COPY_DST),
-            attachments: mk(
-                "attachments",
-                caps.attachments.max(1) as u64 * std::mem::size_of::<attach::Attachment>() as u64,
-                storage,
-            ),
-            attach_info: mk("attach_info", std::mem::size_of::<attach::AttachInfo>() as u64, U::UNIFORM | U::COPY_DST),
-            x_backup: mk("x_backup", n * VEC4, storage),
-            v_backup: mk("v_backup", n * VEC4, storage),
-            state_backup: mk("state_backup", STATE_BYTES, storage),
-            readback: mk("readback", n * VEC4 + STATE_BYTES, U::MAP_READ | U::COPY_DST),
-            caps,
-        }
-    }
-}
-
-struct Pipelines {
-    predict: wgpu::ComputePipeline,
-    detect: wgpu::ComputePipeline,
-    project: wgpu::ComputePipeline,
-    project_stencils: wgpu::ComputePipeline,
-    gauss_seidel: wgpu::ComputePipeline,
-    reduce: wgpu::ComputePipeline,
-    extrapolate: wgpu::ComputePipeline,
-    finish: wgpu::ComputePipeline,
-    ramp: wgpu::ComputePipeline,
-    mesh_lerp: wgpu::ComputePipeline,
-    mesh_count: wgpu::ComputePipeline,
-    mesh_scatter: wgpu::ComputePipeline,
-    hash_scan: wgpu::ComputePipeline,
-    hash_sort: wgpu::ComputePipeline,
-    resolve_mesh: wgpu::ComputePipeline,
-    self_count: wgpu::ComputePipeline,
-    self_scatter: wgpu::ComputePipeline,
-    self_gather: wgpu::ComputePipeline,
-    self_apply: wgpu::ComputePipeline,
-    attach: wgpu::ComputePipeline,
-    gate: wgpu::ComputePipeline,
-}
-
-struct BindGroups {
-    predict: wgpu::BindGroup,
-    detect: wgpu::BindGroup,
-    project: wgpu::BindGroup,
-    project_stencils: wgpu::BindGroup,
-    gauss_seidel: Vec<wgpu::BindGroup>,
-    reduce: wgpu::BindGroup,
-    extrapolate: wgpu::BindGroup,
-    finish: wgpu::BindGroup,
-    ramp: wgpu::BindGroup,
-    mesh_lerp: wgpu::BindGroup,
-    mesh_count: wgpu::BindGroup,
-    mesh_scatter: wgpu::BindGroup,
-    mesh_scan: wgpu::BindGroup,
-    mesh_sort: wgpu::BindGroup,
-    resolve_mesh: wgpu::BindGroup,
-    self_count: wgpu::BindGroup,
-    self_scatter: wgpu::BindGroup,
-    self_scan: wgpu::BindGroup,
-    self_sort: wgpu::BindGroup,
-    self_gather: wgpu::BindGroup,
-    self_apply: wgpu::BindGroup,
-    attach: wgpu::BindGroup,
-    gate: wgpu::BindGroup,
 }
 
 /// What the current upload was made for.
@@ -345,31 +169,6 @@ pub struct GpuSolver {
     mesh_hash_valid: bool,
     /// Errors wgpu reports asynchronously (validation, out of memory, device lost).
     errors: Arc<Mutex<Option<String>>>,
-}
-
-fn compile(device: &wgpu::Device, label: &str, src: &str, entry: &str) -> wgpu::ComputePipeline {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(src.into()),
-    });
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(label),
-        layout: None,
-        module: &module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    })
-}
-
-fn bind(device: &wgpu::Device, p: &wgpu::ComputePipeline, label: &str, e: &[(u32, &wgpu::Buffer)]) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> =
-        e.iter().map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout: &p.get_bind_group_layout(0),
-        entries: &entries,
-    })
 }
 
 fn groups(count: usize, size: u32) -> u32 {
@@ -436,29 +235,7 @@ impl GpuSolver {
             });
         }
         device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let pipelines = Pipelines {
-            predict: compile(&device, "predict", predict::SOURCE, predict::ENTRY),
-            detect: compile(&device, "contacts", contacts::SOURCE, contacts::ENTRY),
-            project: compile(&device, "project_triangles", project_triangles::SOURCE, project_triangles::ENTRY),
-            project_stencils: compile(&device, "project_stencils", project_stencils::SOURCE, project_stencils::ENTRY),
-            gauss_seidel: compile(&device, "gauss_seidel", gauss_seidel::SOURCE, gauss_seidel::ENTRY),
-            reduce: compile(&device, "reduce_omega", chebyshev::SOURCE, chebyshev::REDUCE_ENTRY),
-            extrapolate: compile(&device, "extrapolate", chebyshev::SOURCE, chebyshev::EXTRAPOLATE_ENTRY),
-            finish: compile(&device, "finish", finish::SOURCE, finish::ENTRY),
-            ramp: compile(&device, "ramp", ramp::SOURCE, ramp::ENTRY),
-            mesh_lerp: compile(&device, "mesh_lerp", mesh_hash::SOURCE, mesh_hash::LERP_ENTRY),
-            attach: compile(&device, "attach", attach::SOURCE, attach::ENTRY),
-            gate: compile(&device, "gate", chebyshev::SOURCE, chebyshev::GATE_ENTRY),
-            mesh_count: compile(&device, "mesh_count", mesh_hash::SOURCE, mesh_hash::COUNT_ENTRY),
-            mesh_scatter: compile(&device, "mesh_scatter", mesh_hash::SOURCE, mesh_hash::SCATTER_ENTRY),
-            hash_scan: compile(&device, "hash_scan", hash::SOURCE, hash::SCAN_ENTRY),
-            hash_sort: compile(&device, "hash_sort", hash::SOURCE, hash::SORT_ENTRY),
-            resolve_mesh: compile(&device, "resolve_mesh", resolve_mesh::SOURCE, resolve_mesh::ENTRY),
-            self_count: compile(&device, "self_count", self_collide::SOURCE, self_collide::COUNT_ENTRY),
-            self_scatter: compile(&device, "self_scatter", self_collide::SOURCE, self_collide::SCATTER_ENTRY),
-            self_gather: compile(&device, "self_gather", self_collide::SOURCE, self_collide::GATHER_ENTRY),
-            self_apply: compile(&device, "self_apply", self_collide::SOURCE, self_collide::APPLY_ENTRY),
-        };
+        let pipelines = Pipelines::compile(&device);
         if let Some(e) = pollster::block_on(device.pop_error_scope()) {
             return Err(format!("compiling the shaders failed on {}: {e}", info.name));
         }
@@ -858,75 +635,7 @@ impl GpuSolver {
         // Bind groups depend on the buffers and on the colour count only.
         let rebind = self.binds.as_ref().is_none_or(|g| g.gauss_seidel.len() != colours.len());
         if rebind {
-            let d = &self.device;
-            let pl = &self.pipelines;
-            let gs_common = gauss_seidel::entries(b);
-            let gauss_seidel = (0..colours.len())
-                .map(|c| {
-                    let mut entries: Vec<wgpu::BindGroupEntry> = gs_common
-                        .iter()
-                        .map(|&(binding, buf)| wgpu::BindGroupEntry { binding, resource: buf.as_entire_binding() })
-                        .collect();
-                    entries.push(wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                            buffer: &b.colours,
-                            offset: c as u64 * stride,
-                            size: wgpu::BufferSize::new(16),
-                        }),
-                    });
-                    d.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("gauss_seidel colour"),
-                        layout: &pl.gauss_seidel.get_bind_group_layout(0),
-                        entries: &entries,
-                    })
-                })
-                .collect();
-            self.binds = Some(BindGroups {
-                predict: bind(d, &pl.predict, "predict", &predict::entries(b)),
-                detect: bind(d, &pl.detect, "contacts", &contacts::entries(b)),
-                project: bind(d, &pl.project, "project_triangles", &project_triangles::entries(b)),
-                project_stencils: bind(d, &pl.project_stencils, "project_stencils", &project_stencils::entries(b)),
-                gauss_seidel,
-                reduce: bind(d, &pl.reduce, "reduce_omega", &chebyshev::reduce_entries(b)),
-                extrapolate: bind(d, &pl.extrapolate, "extrapolate", &chebyshev::extrapolate_entries(b)),
-                finish: bind(d, &pl.finish, "finish", &finish::entries(b)),
-                ramp: bind(d, &pl.ramp, "ramp", &ramp::entries(b)),
-                mesh_lerp: bind(d, &pl.mesh_lerp, "mesh_lerp", &mesh_hash::lerp_entries(b)),
-                mesh_count: bind(d, &pl.mesh_count, "mesh_count", &mesh_hash::count_entries(b)),
-                mesh_scatter: bind(d, &pl.mesh_scatter, "mesh_scatter", &mesh_hash::scatter_entries(b)),
-                mesh_scan: bind(
-                    d,
-                    &pl.hash_scan,
-                    "mesh_scan",
-                    &hash::entries(&b.mesh_table_info, &b.mcounts, &b.mtable),
-                ),
-                mesh_sort: bind(
-                    d,
-                    &pl.hash_sort,
-                    "mesh_sort",
-                    &hash::entries(&b.mesh_table_info, &b.mcounts, &b.mtable),
-                ),
-                resolve_mesh: bind(d, &pl.resolve_mesh, "resolve_mesh", &resolve_mesh::entries(b)),
-                self_count: bind(d, &pl.self_count, "self_count", &self_collide::count_entries(b)),
-                self_scatter: bind(d, &pl.self_scatter, "self_scatter", &self_collide::scatter_entries(b)),
-                self_scan: bind(
-                    d,
-                    &pl.hash_scan,
-                    "self_scan",
-                    &hash::entries(&b.self_table_info, &b.scounts, &b.stable),
-                ),
-                self_sort: bind(
-                    d,
-                    &pl.hash_sort,
-                    "self_sort",
-                    &hash::entries(&b.self_table_info, &b.scounts, &b.stable),
-                ),
-                self_gather: bind(d, &pl.self_gather, "self_gather", &self_collide::gather_entries(b)),
-                self_apply: bind(d, &pl.self_apply, "self_apply", &self_collide::apply_entries(b)),
-                attach: bind(d, &pl.attach, "attach", &attach::entries(b)),
-                gate: bind(d, &pl.gate, "gate", &chebyshev::gate_entries(b)),
-            });
+            self.binds = Some(BindGroups::new(&self.device, &self.pipelines, b, colours.len(), stride));
         }
         self.uploaded = Some(Uploaded {
             n,

@@ -48,10 +48,10 @@
 //! the character) move their targets with the collider every substep (`attach.wgsl`).
 //!
 //! **Not yet on the GPU** (a [`Solver`](crate::engine::Solver) asked for the GPU runs such a
-//! frame on the CPU, that frame only, with the reason in its stats): the Jacobi method, the
-//! early stop on `tolerance` with self-collision (without, `reduce_omega` sets a flag that
-//! every iteration stage reads: no readback), frames whose seams are closing, and more than
-//! [`collide_common::MAX_MESHES`] mesh colliders.
+//! frame on the CPU, that frame only, with the reason in its stats): the Jacobi method, frames
+//! whose seams are closing, and more than [`collide_common::MAX_MESHES`] mesh colliders. The
+//! early stop on `tolerance` runs on the GPU: `reduce_omega` sets a flag that every iteration
+//! stage, self-collision's passes included, reads first (no readback).
 //! Flat bending and seams are linear, so they are fully in the matrix and need no GPU kernel.
 
 pub mod attach;
@@ -276,9 +276,6 @@ impl GpuSolver {
     fn unsupported(view: &SolverView<'_>) -> Option<String> {
         if view.settings.method == Method::Jacobi {
             return Some("the Jacobi method".into());
-        }
-        if view.settings.tolerance > 0.0 && view.collide.self_settings.enabled {
-            return Some("the early stop on `tolerance` with self-collision".into());
         }
         // One dimension of dispatches covers 65535 workgroups of 64.
         let m = view.model;

@@ -12,16 +12,17 @@ pub const APPLY_ENTRY: &str = "apply";
 pub const WORKGROUP: u32 = 64;
 
 pub fn count_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (2, &b.x), (7, &b.scounts), (11, &b.self_table_info)]
+    vec![(0, &b.params), (1, &b.state), (2, &b.x), (7, &b.scounts), (11, &b.self_table_info)]
 }
 
 pub fn scatter_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (2, &b.x), (7, &b.scounts), (8, &b.stable), (11, &b.self_table_info)]
+    vec![(0, &b.params), (1, &b.state), (2, &b.x), (7, &b.scounts), (8, &b.stable), (11, &b.self_table_info)]
 }
 
 pub fn gather_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
     vec![
         (0, &b.params),
+        (1, &b.state),
         (2, &b.x),
         (3, &b.x_start),
         (4, &b.particles),
@@ -34,7 +35,7 @@ pub fn gather_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
 }
 
 pub fn apply_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (2, &b.x), (9, &b.sdelta), (10, &b.cur)]
+    vec![(0, &b.params), (1, &b.state), (2, &b.x), (9, &b.sdelta), (10, &b.cur)]
 }
 
 #[cfg(test)]

@@ -33,6 +33,11 @@ fn particle_cell(i: u32) -> vec3<i32> {
 
 @compute @workgroup_size(64)
 fn count(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the pass does nothing more (with
+    // `count` skipped the scan and sort that follow see empty buckets: `sort` zeroed them).
+    if (state.done != 0u) {
+        return;
+    }
     let i = gid.x;
     if (i >= params.n) {
         return;
@@ -42,6 +47,11 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 @compute @workgroup_size(64)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the pass does nothing more (with
+    // `count` skipped the scan and sort that follow see empty buckets: `sort` zeroed them).
+    if (state.done != 0u) {
+        return;
+    }
     let i = gid.x;
     if (i >= params.n) {
         return;
@@ -91,6 +101,11 @@ fn inverse_mass(i: u32) -> f32 {
 
 @compute @workgroup_size(64)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the pass does nothing more (with
+    // `count` skipped the scan and sort that follow see empty buckets: `sort` zeroed them).
+    if (state.done != 0u) {
+        return;
+    }
     let i = gid.x;
     if (i >= params.n) {
         return;
@@ -180,6 +195,11 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 @compute @workgroup_size(64)
 fn apply(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Early stop (`tolerance`): the substep has converged; the pass does nothing more (with
+    // `count` skipped the scan and sort that follow see empty buckets: `sort` zeroed them).
+    if (state.done != 0u) {
+        return;
+    }
     let i = gid.x;
     if (i >= params.n) {
         return;

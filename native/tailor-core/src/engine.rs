@@ -133,6 +133,14 @@ impl Solver {
     /// Advances by `dt` seconds on the active backend.
     pub fn step(&mut self, dt: f32) -> Result<StepStats> {
         #[cfg(feature = "gpu")]
+        if self.gpu.is_some() && self.sim.backend_asleep() {
+            // Asleep (`sleep.rs`, tested on the GPU's speeds as on the CPU's): nothing to solve,
+            // the CPU step only advances the clock; the GPU takes the next frame that wakes it.
+            let mut st = self.sim.step(dt)?;
+            st.warning = self.warning.clone();
+            return Ok(st);
+        }
+        #[cfg(feature = "gpu")]
         if self.gpu.is_some() && (self.sim.seams_closing() || self.sim.ramp_closing()) {
             // Closing seams change their rest lengths every substep, gravity is held while
             // they close and the ramp's release is measured on the CPU (`damping`); those

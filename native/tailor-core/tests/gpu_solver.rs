@@ -695,3 +695,41 @@ fn collider_attachments_ride_on_the_gpu_as_on_the_cpu() {
     let z = g.simulation().positions().get(7 * 15 + 7).z;
     assert!(z - z0 > 0.15, "the riding patch rose {} m with the box (0.2 m)", z - z0);
 }
+
+/// A cloth at rest falls asleep on the GPU as on the CPU: the GPU reports its fastest speed at
+/// the end of each frame and the CPU's sleep test (`sleep.rs`) runs on it; asleep, frames only
+/// advance the clock; an edit wakes it and the GPU solves again.
+#[test]
+fn a_cloth_at_rest_falls_asleep_on_the_gpu_as_on_the_cpu() {
+    let make = || {
+        let (p, r, t) = cloth_grid(0.4, 12, 0.0, 0.0, 0.02);
+        let mut sim = sim_of(p, r, t, SolverSettings::default());
+        let (fv, ft) = plane_mesh(2.0, 10, Vec3::ZERO, Vec3::X, Vec3::Y);
+        sim.add_mesh_collider(&fv, &ft, MeshColliderOptions::default()).unwrap();
+        sim
+    };
+    let Some(mut g) = gpu(make(), "sleep") else { return };
+    let mut cpu = make();
+    let (mut cpu_at, mut gpu_at) = (None, None);
+    for f in 0..300usize {
+        let a = cpu.step(1.0 / 30.0).unwrap();
+        let b = g.step(1.0 / 30.0).unwrap();
+        if !b.asleep {
+            assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: {:?}", b.warning);
+        }
+        cpu_at = cpu_at.or(a.asleep.then_some(f));
+        gpu_at = gpu_at.or(b.asleep.then_some(f));
+        if cpu_at.is_some() && gpu_at.is_some() {
+            break;
+        }
+    }
+    println!("asleep from frame {cpu_at:?} on the CPU, {gpu_at:?} on the GPU");
+    let (c, gf) = (cpu_at.expect("the CPU never slept"), gpu_at.expect("the GPU never slept"));
+    assert!(c.abs_diff(gf) <= 2, "asleep from frame {c} on the CPU but {gf} on the GPU");
+    let before = g.simulation().positions().get(0);
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert!(st.asleep && g.simulation().positions().get(0) == before, "asleep, nothing moves");
+    g.edit(|s| s.set_thickness(0.005)).unwrap();
+    let st = g.step(1.0 / 30.0).unwrap();
+    assert!(!st.asleep && st.backend == ActiveBackend::Gpu, "woken, the GPU solves: {st:?}");
+}

@@ -103,7 +103,8 @@ pub struct StepState {
     pub weight_norm: f32,
     /// Iterations run in the frame.
     pub iterations_run: u32,
-    pub _pad0: u32,
+    /// The fastest particle's speed after the frame's last substep (f32 bits; atomic in WGSL).
+    pub max_speed_bits: u32,
 }
 
 /// Mirror of WGSL `Particle` (32 bytes): each `vec3<f32>` is followed by a 4-byte scalar,

@@ -94,7 +94,9 @@ struct StepState {
     weight_norm: f32,
     // Iterations run in the frame (the host clears it before the frame).
     iterations_run: u32,
-    _pad0: u32,
+    // The fastest particle's speed after the frame's last substep, as f32 bits (positive
+    // floats order as their bits): the CPU's sleep test (`sleep.rs`). Cleared per frame.
+    max_speed_bits: atomic<u32>,
 }
 
 const PHASE_CLOSING: u32 = 0u;

@@ -64,4 +64,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let c = ramp_damping(state.phase, state.elapsed);
     let f = exp(-c * params.h);
     v[i] = vec4<f32>(vel * f, 0.0);
+    if (state.substep + 1u == params.substeps) {
+        // For the sleep test: the fastest speed at the end of the frame (non-negative floats
+        // order as their bits).
+        atomicMax(&state.max_speed_bits, bitcast<u32>(length(vel * f)));
+    }
 }

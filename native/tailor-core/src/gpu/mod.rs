@@ -736,8 +736,9 @@ impl GpuSolver {
         let accelerate = u.method == Method::Chebyshev;
         let pl = &self.pipelines;
         // The frame's iteration count starts at zero (the early stop may run fewer).
+        // So do the frame's iteration count (the early stop may run fewer) and its top speed.
         let at = std::mem::offset_of!(StepState, iterations_run) as u64;
-        self.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&0u32));
+        self.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&[0u32; 2]));
         let plan = plan::frame(pl, g, u, substeps, iterations, rebuild_each_substep, rebuild_first);
         let dispatches = plan.len();
         let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
@@ -780,6 +781,11 @@ impl GpuSolver {
         }
         let phase = phase_from_gpu(state.phase, state.elapsed);
         sim.accept_backend_state(Some(x), phase, h as f64 * substeps as f64);
+        if sim.backend_after_step(f32::from_bits(state.max_speed_bits)) {
+            // Fallen asleep: the CPU zeroed the velocities; the GPU takes them from there when
+            // the cloth wakes.
+            self.dirty = true;
+        }
         let mut stats = StepStats {
             substeps,
             iterations: state.iterations_run,

@@ -77,6 +77,28 @@ impl Simulation {
         self.time += elapsed;
     }
 
+    /// Whether the next step has nothing to solve (the cloth is asleep and nothing drives it),
+    /// for another backend, which lets the CPU take such a step (it only advances the clock).
+    #[cfg(feature = "gpu")]
+    pub(crate) fn backend_asleep(&mut self) -> bool {
+        if self.collide.any_collider_moving() || self.seams_closing {
+            self.sleep.wake();
+        }
+        self.sleep.asleep
+    }
+
+    /// After another backend's step whose fastest particle ends at `max_speed`: the CPU's
+    /// sleep test (`sleep.rs`). Returns whether the cloth fell asleep (velocities zeroed).
+    #[cfg(feature = "gpu")]
+    pub(crate) fn backend_after_step(&mut self, max_speed: f32) -> bool {
+        let quiet = !self.seams_closing && !self.collide.any_collider_moving();
+        let asleep = self.sleep.after_step(max_speed, quiet);
+        if asleep {
+            self.v = crate::solver::model::soa::Vec3Soa::zeros(self.num_particles());
+        }
+        asleep
+    }
+
     /// Begins a frame of `dt` seconds for the mesh colliders on behalf of another backend
     /// (the positions given since the last frame become the frame's end); if that backend
     /// then hands the frame to the CPU, the CPU step does not begin it again.

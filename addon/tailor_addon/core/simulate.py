@@ -34,7 +34,6 @@ PRESETS = tuple(name.upper() for name in tailor.Settings.presets())
 PIN_MODES = ("ATTACH", "FIXED")
 
 _FINAL = tailor.Settings.preset("final")
-_DEFAULTS = tailor.Settings()
 
 
 def preset_values(name: str) -> dict:

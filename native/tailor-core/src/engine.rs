@@ -136,6 +136,9 @@ impl Solver {
         if self.gpu.is_some() && self.sim.backend_asleep() {
             // Asleep (`sleep.rs`, tested on the GPU's speeds as on the CPU's): nothing to solve,
             // the CPU step only advances the clock; the GPU takes the next frame that wakes it.
+            // A collider that starts moving wakes it within this CPU step (the motion is known
+            // once the frame begins), which then solves the frame; the GPU, marked stale when
+            // the cloth fell asleep, restarts from that state.
             let mut st = self.sim.step(dt)?;
             st.warning = self.warning.clone();
             return Ok(st);

@@ -729,6 +729,20 @@ fn a_cloth_at_rest_falls_asleep_on_the_gpu_as_on_the_cpu() {
     let before = g.simulation().positions().get(0);
     let st = g.step(1.0 / 30.0).unwrap();
     assert!(st.asleep && g.simulation().positions().get(0) == before, "asleep, nothing moves");
+    cpu.step(1.0 / 30.0).unwrap();
+    // The floor rises 2 mm: the cloth wakes on the CPU within the frame (the motion is known
+    // once the frame begins), and the GPU goes on from the state that frame left.
+    let (raised, _) = plane_mesh(2.0, 10, Vec3::new(0.0, 0.0, 0.002), Vec3::X, Vec3::Y);
+    for sim_step in 0..3 {
+        if sim_step == 0 {
+            cpu.set_collider_positions(ColliderId(0), &raised).unwrap();
+            g.set_collider_positions(ColliderId(0), &raised).unwrap();
+        }
+        let (a, b) = (cpu.step(1.0 / 30.0).unwrap(), g.step(1.0 / 30.0).unwrap());
+        assert!(!a.asleep && !b.asleep, "step {sim_step}: the moving floor wakes the cloth");
+    }
+    let d = max_diff(&cpu, g.simulation());
+    assert!(d < 1e-4, "after waking, the GPU differs from the CPU by {d} m");
     g.edit(|s| s.set_thickness(0.005)).unwrap();
     let st = g.step(1.0 / 30.0).unwrap();
     assert!(!st.asleep && st.backend == ActiveBackend::Gpu, "woken, the GPU solves: {st:?}");

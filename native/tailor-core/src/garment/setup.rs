@@ -167,7 +167,10 @@ pub fn apply_setup(sim: &mut Simulation, garment: &Garment, layout: &Layout, rid
     let groups = pin_weights(&weights);
     let mut attach = Vec::new();
     if setup.pin_mode == PinMode::Attach && ride {
-        attach = pin_groups(garment, layout)?;
+        attach = groups
+            .into_iter()
+            .map(|(weight, particles)| PinGroup { particles, stiffness: setup.pin_stiffness * weight })
+            .collect();
     } else {
         if setup.pin_mode == PinMode::Attach && !groups.is_empty() {
             warnings.push("pins are held in place: there is no collider for them to ride on".into());

@@ -11,6 +11,10 @@
 @group(0) @binding(6) var<storage, read> colliders: array<Collider>;
 @group(0) @binding(7) var<storage, read> particles: array<Particle>;
 
+// The workgroup's top speed at the frame's last substep, before one atomic per workgroup on the
+// step state (one per particle on a single address would serialise a million-particle frame).
+var<workgroup> wg_speed: atomic<u32>;
+
 // Port of `contacts::coulomb`.
 fn coulomb(v: vec3<f32>, n: vec3<f32>, dvn: f32, mu_s: f32, mu_k: f32) -> vec3<f32> {
     let vn = n * dot(v, n);
@@ -23,10 +27,25 @@ fn coulomb(v: vec3<f32>, n: vec3<f32>, dvn: f32, mu_s: f32, mu_k: f32) -> vec3<f
 }
 
 @compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    // Barriers in uniform control flow; only the frame's last substep reports the speed.
+    if (li == 0u) {
+        atomicStore(&wg_speed, 0u);
+    }
+    workgroupBarrier();
+    // For the sleep test: the fastest speed at the end of the frame (non-negative floats order
+    // as their bits).
+    atomicMax(&wg_speed, bitcast<u32>(finish_particle(gid.x)));
+    workgroupBarrier();
+    if (li == 0u && state.substep + 1u == params.substeps) {
+        atomicMax(&state.max_speed_bits, atomicLoad(&wg_speed));
+    }
+}
+
+// One particle's damping stage; returns its speed afterwards (0 past the last particle).
+fn finish_particle(i: u32) -> f32 {
     if (i >= params.n) {
-        return;
+        return 0.0;
     }
     var p = x[i].xyz;
     let ct = contacts[i];
@@ -64,9 +83,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let c = ramp_damping(state.phase, state.elapsed);
     let f = exp(-c * params.h);
     v[i] = vec4<f32>(vel * f, 0.0);
-    if (state.substep + 1u == params.substeps) {
-        // For the sleep test: the fastest speed at the end of the frame (non-negative floats
-        // order as their bits).
-        atomicMax(&state.max_speed_bits, bitcast<u32>(length(vel * f)));
-    }
+    return length(vel * f);
 }

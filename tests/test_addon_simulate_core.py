@@ -3,6 +3,8 @@
 
 import re
 import sys
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -217,18 +219,32 @@ def test_triangle_size_spread():
     assert even["edge_cv"] < uneven["edge_cv"] and even["edge_p95_p5"] < uneven["edge_p95_p5"]
 
 
-def test_live_solver_steps_on_its_thread_and_applies_edits():
+def test_live_solver_solves_on_native_threads_and_applies_edits():
+    """Live's solver starts no Python thread (in Blender one races Blender's own calls into
+    Python: see `core/simulate_live.py`); polling alone, never waiting, moves a frame through
+    its assembly and measurement to its result while the solves run on native threads."""
     g = two_pieces()
     v, t = box()
     fabrics = [core_sim.PieceFabric(0.15, 600.0, 60.0, 2e-5)] * 2
     built = core_sim.build(g, core_sim.SimSettings(), fabrics, [{}, {}], [core_sim.ColliderData("box", v, t)])
-    solver = LiveSolver(bake.Bake(built.sim, built.colliders, 30.0, 1))
+    threads = threading.active_count()
+    solver = LiveSolver(bake.Bake(built.sim, built.colliders, 30.0, 1, preroll=3))
     try:
         seen = []
         assert solver.submit(1, [v], [lambda sim: seen.append(sim.num_particles)])
-        r = solver.wait(30)
+        assert solver.busy and not solver.submit(1, [v])  # one frame at a time
+        assert threading.active_count() == threads
+        polls, r = 0, None
+        deadline = time.monotonic() + 60
+        while r is None and time.monotonic() < deadline:
+            r, polls = solver.poll(), polls + 1
+            time.sleep(0.001)
         assert r is not None and r.error is None and r.frame == 1 and seen == [g.num_particles]
-        assert r.positions.shape == (g.num_particles, 3)
+        assert r.positions.shape == (g.num_particles, 3) and polls > 1 and not solver.busy
+        assert solver.run.preroll_frames >= 3 and r.solve_ms == r.record["ms"] > 0.0
+        assert solver.submit(2, [v])
+        r = solver.wait(30)
+        assert r is not None and r.error is None and r.frame == 2
         bad = v.copy()
         bad[0] = np.nan
         assert solver.submit(2, [bad])

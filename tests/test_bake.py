@@ -298,3 +298,76 @@ def test_records_say_which_backend_solved_each_frame(tube):
     assert [r["backend"] for r in run.records[1:]] == ["cpu"] * 3
     assert all(r["backend_warning"] is None for r in run.records)
     assert run.summary()["backends"] == {"cpu": 3}
+
+
+def drive_async(solves, sim) -> dict:
+    """`Bake.solves` run as the add-on's Live runs it: each request on a native thread
+    (`start_async`), collected once `done` (polled, never waited on here)."""
+    try:
+        request = next(solves)
+        while True:
+            pending = bake.start_async(sim, request)
+            with pytest.raises(tailor.SimulationError, match="in use"):
+                sim.positions  # busy while the native thread has the solver
+            while not pending.done():
+                pass
+            try:
+                result = pending.finish()
+            except Exception as exc:
+                request = solves.throw(exc)
+            else:
+                request = solves.send(result)
+    except StopIteration as stop:
+        return stop.value
+
+
+def test_a_bake_driven_on_native_threads_solves_the_same_frames(tube):
+    """`Bake.solves` driven with `step_async` / `metrics_async` (the add-on's Live and modal
+    bake: no Python thread in Blender) gives the very frames and quality figures `step` gives,
+    assembly, pins waiting for the seams and the records' frame time included."""
+
+    def new_run():
+        settings = tailor.Settings(substeps=4, iterations=10, gravity=(0.0, 0.0, 0.0))
+        sim = tailor.Simulation(tube["positions"], tube["triangles"], tube["rest"], tailor.Fabric(), settings)
+        for name, a, b in tube["seams"]:
+            sim.add_seam(a, b, name=name)
+        v, t = box(0.06, 0.15)
+        cid = sim.add_mesh_collider(v, t)
+        top = np.flatnonzero(tube["positions"][:, 2] > 0.299)
+        run = bake.Bake(sim, [bake.Collider("box", cid, len(v))], fps=30.0, start=1, preroll=2,
+                        pins=bake.ColliderPins(cid, [(top, 100.0)]), preroll_max=2)
+        return run, v
+
+    here, v = new_run()
+    there, _ = new_run()
+    for frame in range(1, 8):
+        a = here.step([v])
+        b = drive_async(there.solves([v]), there.sim)
+        assert b is there.records[-1] and b["ms"] > 0.0
+        assert {k: x for k, x in a.items() if k != "ms"} == {k: x for k, x in b.items() if k != "ms"}
+        np.testing.assert_array_equal(here.frames[-1], there.frames[-1])
+    assert there.pins.attached and here.sim.state_hash() == there.sim.state_hash()
+
+
+def test_a_native_step_hands_back_its_error_and_the_simulation(square):
+    """`Simulation.step_async`: the simulation says busy until `finish`, which raises the step's
+    error (a diverged step rolled back, as `step`'s) and gives the simulation back either way;
+    `finish` twice is an error, `wait` with a timeout does not block for ever."""
+    pos, tris, rest = square
+    sim = tailor.Simulation(pos, tris, rest)
+    pending = sim.step_async(1.0 / 30.0, 3)
+    assert pending.wait(30.0)
+    stats = pending.finish()
+    assert stats["wall_s"] > 0.0 and stats["substeps"] > 0
+    with pytest.raises(tailor.SimulationError, match="already finished"):
+        pending.finish()
+    before = sim.positions
+    sim.velocities = np.full((len(pos), 3), 3e38, np.float32)
+    pending = sim.step_async(1.0)
+    with pytest.raises(tailor.SimulationError, match="in use"):
+        sim.step(1.0)
+    with pytest.raises(tailor.SimulationError, match="rolled back"):
+        pending.finish()
+    np.testing.assert_array_equal(sim.positions, before)
+    m = sim.metrics_async(None).finish()
+    assert m == sim.metrics(None)

@@ -47,11 +47,6 @@ def run_driver(tmp_path: Path, driver: str, screen: str, result_name: str, clear
     ]  # fmt: skip
     result_file = OUT / result_name
     run = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
-    if run.returncode == 139 and not result_file.is_file():
-        # Debian's Blender 3.4 under Xvfb segfaults now and then in the Live scenario (seen in
-        # 2 of 6 clean-clone CI runs, cause not found): one more try, said in the log.
-        print(f"{driver}: Blender crashed (SIGSEGV) before writing its result; running it once more", flush=True)
-        run = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
     log = run.stdout[-6000:] + run.stderr[-3000:]
     assert result_file.is_file(), f"the driver wrote no result (exit {run.returncode}):\n{log}"
     result = json.loads(result_file.read_text())

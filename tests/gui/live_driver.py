@@ -33,6 +33,7 @@ if every check passed.
 from __future__ import annotations
 
 import argparse
+import faulthandler
 import json
 import math
 import os
@@ -64,6 +65,8 @@ def parse_args():
     return p.parse_args(argv)
 
 
+# A segfault prints every thread's Python stack before Blender's own crash report.
+faulthandler.enable(all_threads=True)
 ARGS = parse_args()
 OUT = Path(ARGS.out)
 OUT.mkdir(parents=True, exist_ok=True)

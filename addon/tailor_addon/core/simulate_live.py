@@ -1,20 +1,28 @@
-"""Live mode's solver thread: the solve off Blender's main thread, results picked up later.
+"""Live mode's and the modal bake's solver: the solve off Blender's main thread, with no
+Python thread of ours.
 
 Bpy-free. The main thread (the modal timer, or `tailor.live_step` in scripts and tests)
-`submit`s a frame's collider positions plus any pending edits and goes back to drawing; a
-worker thread applies the edits, steps the `tailor.bake.Bake` (`Simulation.step` releases the
-GIL, so Blender's UI keeps running while it solves) and leaves positions and metrics in a
-one-slot mailbox that `poll` takes without waiting. So the main thread's share of a frame is
-gathering collider arrays and writing positions, never the solve itself.
+`submit`s a frame's collider positions plus any pending edits and goes back to drawing; the
+frame's loop (`tailor.bake.Bake.solves`) runs on the main thread up to each solve or
+measurement, which is started on a native thread (`Simulation.step_async`, `metrics_async`);
+`poll` picks the result up without waiting once it is done and runs the loop on to its next
+request or its end, leaving positions and metrics in a one-slot mailbox. So the main thread's
+share of a frame is gathering collider arrays, a little bookkeeping and writing positions,
+never the solve itself.
 
-The simulation is owned by the worker while a job runs: edits are callables `f(sim)` queued
-with the next submission and run on the worker between frames, which is how stiffness and
-pin changes apply without a restart.
+Why no worker thread in Python (as this was until 2026-11): in Blender, a second Python thread
+holding the GIL while one of Blender's operators runs makes Blender call the C API without the
+GIL (with Python 3.11 it reads the *global* current thread state to decide whether it holds
+it), and both threads then allocate Python objects at once: Blender crashed, now and then, in
+the Live window test (gdb: `PyDict_GetItemString` under `screen.screenshot_area` on the main
+thread, `PyUnicode_New` in the worker's `Simulation.step`). Native threads never take the GIL.
+
+Edits are callables `f(sim)` run at the next submission, between frames (the solver is idle
+then), which is how stiffness and pin changes apply without a restart.
 """
 
 from __future__ import annotations
 
-import threading
 import time
 from collections import deque
 from dataclasses import dataclass
@@ -35,54 +43,60 @@ class LiveResult:
 
 
 class LiveSolver:
-    """One worker thread stepping `run` (a `tailor.bake.Bake`) one frame per submission.
+    """Steps `run` (a `tailor.bake.Bake`) one frame per submission, its solves and measurements
+    on native threads, everything else on the caller's (main) thread.
 
     Live keeps only the latest frame; with `keep_frames` (the modal bake) every frame stays in
-    `run.frames`, to be read on the main thread once the worker is idle or stopped."""
+    `run.frames`, to be read on the main thread once the solver is idle or stopped."""
 
     def __init__(self, run: bake.Bake, keep_frames: bool = False):
         self.run = run
         self.keep_frames = keep_frames
-        self._lock = threading.Condition()
-        self._job: tuple[int, Sequence[np.ndarray], list[Callable]] | None = None
+        self._frame = 0  # the scene frame in progress
+        self._t0 = 0.0
+        self._solves: bake.Solves | None = None  # its loop, while in progress
+        self._pending = None  # the loop's request running on a native thread (a tailor.Pending)
         self._result: LiveResult | None = None
-        self._busy = False
-        self._stop = False
+        self._stopped = False
         self._stamps: deque[float] = deque(maxlen=32)
-        self._thread = threading.Thread(target=self._work, name="tailor-live", daemon=True)
-        self._thread.start()
-
-    # ---- main thread ------------------------------------------------------------------------
 
     @property
     def busy(self) -> bool:
-        with self._lock:
-            return self._busy or self._job is not None
+        """A frame is in progress."""
+        return self._solves is not None
 
     def submit(self, frame: int, collider_positions: Sequence[np.ndarray], edits: Sequence[Callable] = ()) -> bool:
-        """Hands a frame to the worker; False (nothing queued) while it is still solving the
-        last one: the caller tries again on its next tick."""
-        with self._lock:
-            if self._stop:
-                raise RuntimeError("the live solver was stopped")
-            if self._busy or self._job is not None:
-                return False
-            self._job = (int(frame), [np.array(p, np.float32, copy=True) for p in collider_positions], list(edits))
-            self._lock.notify_all()
+        """Applies `edits` and starts frame `frame`; False (nothing done) while the last one is
+        still in progress: the caller tries again on its next tick."""
+        if self._stopped:
+            raise RuntimeError("the live solver was stopped")
+        if self.busy:
+            return False
+        self._frame, self._t0 = int(frame), time.perf_counter()
+        colliders = [np.array(p, np.float32, copy=True) for p in collider_positions]
+        try:
+            for edit in edits:
+                edit(self.run.sim)
+            self._solves = self.run.solves(colliders)
+        except Exception as exc:  # handed over by the next poll, which reports it and stops
+            self._fail(exc)
             return True
+        self._advance(lambda: next(self._solves))
+        return True
 
     def poll(self) -> LiveResult | None:
-        """The latest finished frame, once (None if none finished since the last poll)."""
-        with self._lock:
-            r, self._result = self._result, None
-            return r
+        """The latest finished frame, once (None if none finished since the last poll). Never
+        waits: a request still running stays so; a finished one moves the frame's loop on."""
+        if self._pending is not None and self._pending.done():
+            self._collect()
+        r, self._result = self._result, None
+        return r
 
     def wait(self, timeout: float | None = None) -> LiveResult | None:
         """Blocks until the submitted frame is solved (scripts and tests; the modal path polls)."""
-        with self._lock:
-            self._lock.wait_for(lambda: self._result is not None or self._stop, timeout)
-            r, self._result = self._result, None
-            return r
+        self._run_until(timeout)
+        r, self._result = self._result, None
+        return r
 
     def fps(self) -> float:
         """Solved frames per wall-clock second over the last 32 frames."""
@@ -91,40 +105,62 @@ class LiveSolver:
             return 0.0
         return (len(s) - 1) / (s[-1] - s[0])
 
-    def stop(self, timeout: float = 10.0) -> None:
-        with self._lock:
-            self._stop = True
-            self._lock.notify_all()
-        self._thread.join(timeout)
+    def stop(self, timeout: float | None = 10.0) -> None:
+        """No more submissions. A frame in progress is finished (and kept in `run`) if it ends
+        within `timeout` seconds (None: however long); else it is left to its native thread,
+        which drops the simulation when it ends."""
+        self._stopped = True
+        self._run_until(timeout)
+        if self._pending is not None:
+            self._pending = None
+            self._solves = None
 
-    # ---- worker thread ----------------------------------------------------------------------
+    # ---- the frame's loop ---------------------------------------------------------------------
 
-    def _work(self) -> None:
-        while True:
-            with self._lock:
-                self._lock.wait_for(lambda: self._job is not None or self._stop)
-                if self._stop:
-                    return
-                frame, colliders, edits = self._job
-                self._job, self._busy = None, True
-            result = self._solve(frame, colliders, edits)
-            with self._lock:
-                self._busy = False
-                self._result = result
-                self._stamps.append(time.perf_counter())
-                self._lock.notify_all()
+    def _run_until(self, timeout: float | None) -> None:
+        deadline = None if timeout is None else time.perf_counter() + timeout
+        while self._pending is not None:
+            left = None if deadline is None else max(0.0, deadline - time.perf_counter())
+            if not self._pending.wait(left):
+                return
+            self._collect()
 
-    def _solve(self, frame: int, colliders: Sequence[np.ndarray], edits: list[Callable]) -> LiveResult:
-        t0 = time.perf_counter()
+    def _collect(self) -> None:
+        """Hands the finished request's result (or its error) to the frame's loop."""
+        pending, self._pending = self._pending, None
         try:
-            for edit in edits:
-                edit(self.run.sim)
-            rec = self.run.step(colliders)
-            pos = self.run.frames[-1]
-            if not self.keep_frames:  # Live keeps no history: only the latest frame matters
-                self.run.frames.clear()
-                self.run.records.clear()
-                self.run.frames.append(pos)
-            return LiveResult(frame, pos, rec, (time.perf_counter() - t0) * 1e3)
-        except Exception as exc:  # handed to the main thread, which reports it and stops
-            return LiveResult(frame, np.empty((0, 3), np.float32), {}, (time.perf_counter() - t0) * 1e3, exc)
+            result = pending.finish()
+        except Exception as exc:
+            self._advance(lambda: self._solves.throw(exc))
+        else:
+            self._advance(lambda: self._solves.send(result))
+
+    def _advance(self, resume: Callable[[], object]) -> None:
+        """Runs the frame's loop to its next request, started on a native thread, or its end."""
+        try:
+            request = resume()
+            self._pending = bake.start_async(self.run.sim, request)
+        except StopIteration as stop:
+            self._done(stop.value)
+        except Exception as exc:
+            self._fail(exc)
+
+    def _done(self, rec: dict) -> None:
+        pos = self.run.frames[-1]
+        if not self.keep_frames:  # Live keeps no history: only the latest frame matters
+            self.run.frames.clear()
+            self.run.records.clear()
+            self.run.frames.append(pos)
+        self._solves = None
+        self._result = LiveResult(self._frame, pos, rec, float(rec["ms"]))
+        self._stamps.append(time.perf_counter())
+
+    def _fail(self, exc: BaseException) -> None:
+        if self._solves is not None:
+            try:
+                self._solves.close()  # its clean-ups (the assembly's gravity put back)
+            except Exception:
+                pass  # the error reported is the first one
+        self._solves = None
+        self._result = LiveResult(self._frame, np.empty((0, 3), np.float32), {},
+                                  (time.perf_counter() - self._t0) * 1e3, exc)

@@ -3,8 +3,8 @@
 - `properties.py`: the panel's settings (`Scene.tailor_simulate`) and `Object.tailor_collider`;
 - `gather.py`: scene -> arrays (settings, fabric, painted maps, colliders evaluated every frame);
 - `job.py`: a bake (`tailor.bake.Bake` driven frame by frame, PC2 caches, Mesh Cache playback);
-- `live.py`, `draw.py`: Live mode's main-thread half and its overlay (the worker thread is
-  `core/simulate_live.py`);
+- `live.py`, `draw.py`: Live mode's main-thread half and its overlay (the solver, its solves on
+  native threads, is `core/simulate_live.py`);
 - `operators.py`, `ui.py`: the operators and the panel;
 - `export_welded.py`: Export Welded Garment (the pieces merged along their seams into one mesh
   at the current frame, optionally written as OBJ or glTF).

@@ -1,15 +1,15 @@
 """Live mode's Blender half: one `LiveSession` per scene, ticked on the main thread.
 
 A tick (from the modal timer in the UI, or `tailor.live_step` in scripts and tests) does only
-main-thread work: take the worker's finished frame (`core.simulate_live.LiveSolver.poll`) and
-write it into the piece meshes, then, if the worker is idle, gather the colliders at the
+main-thread work: take the solver's finished frame (`core.simulate_live.LiveSolver.poll`) and
+write it into the piece meshes, then, if the solver is idle, gather the colliders at the
 current frame (the timeline plays or the artist scrubs: the garment follows) plus any edits
-and submit them. The solve itself runs on the worker with the GIL released, so the viewport
-waits for at most one frame's gathering and writing.
+and submit them. The solve itself runs on a native thread, so the viewport waits for at most
+one frame's gathering and writing.
 
 Edits apply without a restart: every tick compares the pieces' fabric and the panel's
 settings with what the solver has, and every `MAPS_EVERY` ticks re-reads the painted maps
-(pins, friction, mass); a change becomes an edit the worker applies before its next frame.
+(pins, friction, mass); a change becomes an edit applied before the next frame starts.
 Stopping restores the pieces' meshes as they were before Live started.
 """
 
@@ -94,7 +94,7 @@ class LiveSession:
 
     def pending_edits(self, scene) -> list:
         """Edits of fabric, settings and painted maps since the solver last saw them. Each edit
-        is applied to the module's garment here (main thread) and to the solver by the worker."""
+        is applied to the module's garment here and to the solver when the next frame starts."""
         edits = []
         fabrics = gather.fabrics(self.objects)
         maps = self.maps

@@ -180,8 +180,8 @@ class TAILOR_OT_bake(bpy.types.Operator):
                 raise
             report(self, exc, "Baking")
             return {"CANCELLED"}
-        # The solve runs on a worker thread (the GIL is released while it solves); each timer
-        # tick only moves the timeline, evaluates the colliders and hands them over.
+        # The solve runs on a native thread (`LiveSolver`: no Python thread in Blender); each
+        # timer tick only collects what it finished, evaluates the colliders and hands them over.
         self._solver = LiveSolver(self._job.run, keep_frames=True)
         self._error = None
         wm = context.window_manager
@@ -303,7 +303,7 @@ class TAILOR_OT_live_step(bpy.types.Operator):
     bl_idname = "tailor.live_step"
     bl_label = "Live Step"
     bl_description = (
-        "Live mode without the modal timer (scripts, tests): solve `count` frames on the worker thread and "
+        "Live mode without the modal timer (scripts, tests): solve `count` frames off the main thread and "
         "apply each on the main thread, optionally advancing the timeline one frame each time"
     )
     bl_options = {"REGISTER", "UNDO"}

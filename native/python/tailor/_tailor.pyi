@@ -143,6 +143,14 @@ class Simulation:
         kinetic_friction: float = 0.3,
     ) -> None: ...
     def step(self, dt: float, frames: int = 1) -> dict[str, Any]: ...
+    def step_async(
+        self, dt: float, frames: int = 1, *, measure: bool = False, collider: int | None = None
+    ) -> Pending:
+        """`step` on a native thread (no Python runs there): returns at once; the simulation
+        says busy until `Pending.finish`. With `measure` its statistics hold "metrics", the
+        `metrics(collider)` of the state reached, computed on the same thread."""
+    def metrics_async(self, collider: int | None = None) -> Pending:
+        """`metrics` on a native thread, as `step_async`."""
     def seam_gaps(self) -> tuple[float, float]: ...
     def colour_count(self) -> int: ...
     def state_hash(self) -> int: ...
@@ -200,6 +208,15 @@ class Simulation:
         VERDICT_THRESHOLDS["on_body_distance_m"] (10 cm) of the collider's surface; None without
         one), "collider_centroid" (its surface's area-weighted centroid; None without one) and
         "seams_closing" (the garment is still being assembled). `judge` reads these."""
+
+class Pending:
+    """A step or a measurement on a native thread (`Simulation.step_async`, `metrics_async`)."""
+
+    def done(self) -> bool: ...
+    def wait(self, timeout: float | None = None) -> bool: ...
+    def finish(self) -> dict[str, Any]:
+        """What the synchronous call returns (a step's statistics with "wall_s"), waiting if
+        needed; gives the solver back; raises the call's error. Once only."""
 
 def sewn_tube(
     width: float = 0.5,

@@ -20,8 +20,13 @@ Painted pins can ride on the character (``ColliderPins``): they are attached to 
 "closing", not from the start, because pins held from the first frame would hold the seams
 open; from then on each rides on its bound point of the collider as the body moves.
 
-No Blender, no threads here: a driver that wants the loop off its main thread calls ``step``
-from a worker (``Simulation.step`` releases the GIL).
+No Blender, no threads here. The frame's loop is a generator (``Bake.solves``) that yields each
+solve and measurement it needs (``Solve``, ``Measure``) and is sent back the result: ``step``
+runs it with ``Simulation.step`` and ``metrics`` on the calling thread; a host whose main thread
+must stay free and which must not run Python on a second thread (Blender: see the add-on's
+``core/simulate_live.py``) runs the same generator with ``Simulation.step_async`` and
+``metrics_async``, which compute on a native thread, and collects each result when it is done.
+Either way the Python between the calls runs on the caller's thread and the frames are the same.
 """
 
 from __future__ import annotations
@@ -29,7 +34,7 @@ from __future__ import annotations
 import os
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Callable, Generator, Sequence
 
 import numpy as np
 
@@ -246,6 +251,86 @@ class ColliderPins:
             self.attach(sim)
 
 
+@dataclass(frozen=True)
+class Solve:
+    """A request of `Bake.solves`: `frames` solver frames of `dt` seconds; it is sent back the
+    last frame's `Simulation.step` statistics (with `wall_s`, the seconds the solve took), and
+    with `measure` the state's `Simulation.metrics(collider)` after them as `metrics` (so that
+    a driver on another thread makes one trip for a frame, not two)."""
+
+    dt: float
+    frames: int = 1
+    measure: bool = False
+    collider: int | None = None
+
+
+@dataclass(frozen=True)
+class Measure:
+    """A request of `Bake.solves`: the current state's `Simulation.metrics(collider)`, sent back."""
+
+    collider: int | None
+
+
+#: What `Bake.solves` yields, is sent and returns.
+Solves = Generator["Solve | Measure", dict, dict]
+
+
+def run_here(sim: Simulation, request: Solve | Measure) -> dict:
+    """A request of `Bake.solves` computed on this thread."""
+    if isinstance(request, Solve):
+        stats = sim.step(request.dt, request.frames)
+        if request.measure:
+            stats["metrics"] = sim.metrics(request.collider)
+        return stats
+    return sim.metrics(request.collider)
+
+
+def start_async(sim: Simulation, request: Solve | Measure):
+    """A request of `Bake.solves` started on a native thread: a `tailor.Pending`."""
+    if isinstance(request, Solve):
+        return sim.step_async(request.dt, request.frames, measure=request.measure, collider=request.collider)
+    return sim.metrics_async(request.collider)
+
+
+def drive(solves: Solves, sim: Simulation) -> dict:
+    """Runs a `Bake.solves` generator to its end on this thread; returns its value. An error
+    of a request is raised inside the generator (its clean-ups run) and out of here."""
+    try:
+        request = next(solves)
+        while True:
+            try:
+                result = run_here(sim, request)
+            except Exception as exc:
+                request = solves.throw(exc)
+            else:
+                request = solves.send(result)
+    except StopIteration as stop:
+        return stop.value
+
+
+class _Clock:
+    """A frame's solve time as `step` measured it, however a driver runs the requests: the
+    loop's own work plus each solve's wall time (`wall_s`) and each measurement's time,
+    without the time a driver took to send the results back (a timer tick, in Blender)."""
+
+    def __init__(self) -> None:
+        self.s = 0.0
+        self.mark = time.perf_counter()
+
+    def request(self, request: Solve | Measure) -> Generator[Solve | Measure, dict, dict]:
+        self.s += time.perf_counter() - self.mark
+        sent = time.perf_counter()
+        result = yield request
+        back = time.perf_counter()
+        # A solve's own wall time; a measurement is counted as the round trip (it is not timed).
+        self.s += result.get("wall_s", back - sent) if isinstance(request, Solve) else back - sent
+        self.mark = back
+        return result
+
+    def ms(self) -> float:
+        return (self.s + time.perf_counter() - self.mark) * 1e3
+
+
 @dataclass
 class AssemblyFrame:
     """A solver frame of a bake's assembly, before its start frame (`Bake.on_assembly_frame`):
@@ -329,18 +414,25 @@ class Bake:
         records the start frame. Raises `InvalidParameterError` (bad collider) or
         `SimulationError` (the solve diverged; the simulation is rolled back) and records
         nothing in that case."""
-        t0 = time.perf_counter()
+        return drive(self.solves(collider_positions), self.sim)
+
+    def solves(self, collider_positions: Sequence[np.ndarray]) -> Solves:
+        """`step` as a generator of the solves and measurements it needs (`Solve`, `Measure`),
+        each sent back its result (`drive` runs it on this thread); returns the record."""
+        clock = _Clock()
         stats = None
         if not self.frames:
             if not self.prerolled:
-                self._assemble(collider_positions)
+                yield from self._assemble(collider_positions, clock)
             self._set_colliders(collider_positions)
         else:
             self._set_colliders(collider_positions)
-            stats = self._solve(1.0 / self.fps)
-        ms = (time.perf_counter() - t0) * 1e3
+            stats = yield from self._solve(clock, 1.0 / self.fps, measure=True)
+        ms = clock.ms()
         pos = self.sim.positions
-        m = self.sim.metrics(self.metrics_collider)
+        m = None if stats is None else stats.get("metrics")
+        if m is None:  # the start frame, or the pins attached after the frame's last solve
+            m = yield from clock.request(Measure(self.metrics_collider))
         self.start_metrics = judged_from(self.start_metrics, m)
         rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider, self.start_metrics, m)
         # Which backend solved the frame, and why the CPU did when the GPU was asked for (None:
@@ -361,29 +453,32 @@ class Bake:
         self.records.append(rec)
         return rec
 
-    def _solve(self, dt: float, frames: int = 1) -> dict:
+    def _solve(self, clock: _Clock, dt: float, frames: int = 1,
+               measure: bool = False) -> Generator[Solve | Measure, dict, dict]:
         """`frames` solver frames; pins waiting for the seams are attached after the first
         frame whose ramp is no longer closing (so frame by frame until then). Returns the
         last frame's `Simulation.step` statistics (its `ramp_phase`: "closing", "releasing"
-        or "done")."""
+        or "done"), with `measure` and the metrics after the last frame (`Solve.measure`)."""
+        ask = {"measure": True, "collider": self.metrics_collider} if measure else {}
         if self.pins is None or self.pins.attached:
-            return self.sim.step(dt, frames)
+            return (yield from clock.request(Solve(dt, frames, **ask)))
         stats = {"ramp_phase": "done"}
         for k in range(frames):
-            stats = self.sim.step(dt)
+            stats = yield from clock.request(Solve(dt, 1, **(ask if k == frames - 1 else {})))
             if self.pins.after_frame(self.sim, stats["ramp_phase"]):
                 if frames - k - 1 > 0:
-                    stats = self.sim.step(dt, frames - k - 1)
+                    stats = yield from clock.request(Solve(dt, frames - k - 1, **ask))
                 break
         return stats
 
-    def _assembly_frame(self, phase: str, index: int, dt: float, colliders: Sequence[np.ndarray]) -> str:
+    def _assembly_frame(self, clock: _Clock, phase: str, index: int, dt: float,
+                        colliders: Sequence[np.ndarray]) -> Generator[Solve | Measure, dict, str]:
         """One preroll or transition frame, handed to `on_assembly_frame` when there is one.
         Returns the ramp's phase after it."""
-        t0 = time.perf_counter()
-        stats = self._solve(dt)
+        t0 = clock.ms()
+        stats = yield from self._solve(clock, dt)
         if self.on_assembly_frame is not None:
-            self.on_assembly_frame(AssemblyFrame(phase, index, (time.perf_counter() - t0) * 1e3, stats, colliders))
+            self.on_assembly_frame(AssemblyFrame(phase, index, clock.ms() - t0, stats, colliders))
         return stats["ramp_phase"]
 
     def preroll_limit(self) -> int:
@@ -392,7 +487,7 @@ class Bake:
             return max(self.preroll, self.preroll_max)
         return max(self.preroll, round(ASSEMBLY_MAX_S * self.fps))
 
-    def _assemble(self, start_positions: Sequence[np.ndarray]) -> None:
+    def _assemble(self, start_positions: Sequence[np.ndarray], clock: _Clock) -> Generator[Solve | Measure, dict, None]:
         dt = 1.0 / self.fps
         pose = self.assembly if self.assembly is not None else start_positions
         if self.preroll > 0:
@@ -409,12 +504,12 @@ class Bake:
                 # through the motion.
                 n, cap = self.preroll, self.preroll_limit()
                 if self.on_assembly_frame is None:
-                    phase = self._solve(dt, self.preroll)["ramp_phase"]
+                    phase = (yield from self._solve(clock, dt, self.preroll))["ramp_phase"]
                 else:  # frame by frame, as many solver frames (`Simulation.step` loops the same)
                     for k in range(1, self.preroll + 1):
-                        phase = self._assembly_frame("preroll", k, dt, pose)
+                        phase = yield from self._assembly_frame(clock, "preroll", k, dt, pose)
                 while phase == "closing" and n < cap:
-                    phase, n = self._assembly_frame("preroll", n + 1, dt, pose), n + 1
+                    phase, n = (yield from self._assembly_frame(clock, "preroll", n + 1, dt, pose)), n + 1
                 self.preroll_frames = n
             finally:
                 if self.assembly_gravity is not None:
@@ -428,7 +523,7 @@ class Bake:
                 t = t * t * (3.0 - 2.0 * t)
                 blend = [(1.0 - t) * pa + t * pb for pa, pb in zip(a, b)]
                 self._set_colliders(blend)
-                self._assembly_frame("transition", k, dt, blend)
+                yield from self._assembly_frame(clock, "transition", k, dt, blend)
         self.prerolled = True
 
     def run(

@@ -4,6 +4,7 @@
 //! becomes one typed Python exception (see [`errors`]). Nothing here holds physics or geometry
 //! logic: each function converts its arguments, calls the core, and converts the result.
 
+mod background;
 mod colliders;
 mod contour;
 mod convert;
@@ -42,6 +43,7 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<settings::Fabric>()?;
     m.add_class::<settings::Settings>()?;
     m.add_class::<simulation::Simulation>()?;
+    m.add_class::<background::Pending>()?;
     m.add_function(wrap_pyfunction!(scenes::sewn_tube, m)?)?;
     m.add_class::<io::AnimatedMesh>()?;
     m.add_function(wrap_pyfunction!(io::read_mesh, m)?)?;

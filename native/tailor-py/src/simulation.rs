@@ -7,7 +7,8 @@ use tailor_core::engine::{Backend, Solver, SolverOptions};
 use tailor_core::garment::DEFAULT_SEAM_STIFFNESS;
 use tailor_core::mesh::ClothMesh;
 use tailor_core::solver::{
-    self as core, Attachment, ImplicitCollider, RampPhase, ReferenceOptions, Seam, SeamPoint, Shape, StepStats,
+    self as core, Attachment, ColliderId, ImplicitCollider, RampPhase, ReferenceOptions, Seam, SeamPoint, Shape,
+    StepStats,
 };
 
 use crate::colliders;
@@ -40,6 +41,23 @@ impl Simulation {
 
     fn solver_mut(&mut self) -> PyResult<&mut Solver> {
         self.inner.as_mut().ok_or_else(busy)
+    }
+
+    /// Takes the solver out (the simulation says busy until [`Self::put_back`]): a step on a
+    /// native thread owns it meanwhile (`background.rs`).
+    pub(crate) fn take_solver(slf: &Bound<'_, Self>) -> PyResult<Solver> {
+        slf.try_borrow_mut().map_err(|_| busy())?.inner.take().ok_or_else(busy)
+    }
+
+    /// A mesh collider's id from Python's (None stays None).
+    fn collider_of(slf: &Bound<'_, Self>, collider: Option<i64>) -> PyResult<Option<ColliderId>> {
+        let meshes = slf.borrow().solver()?.simulation().num_mesh_colliders();
+        collider.map(|c| colliders::collider_id(c, meshes)).transpose()
+    }
+
+    pub(crate) fn put_back(slf: &Bound<'_, Self>, solver: Solver) -> PyResult<()> {
+        slf.try_borrow_mut().map_err(|_| busy())?.inner = Some(solver);
+        Ok(())
     }
 
     /// Runs `f` on the solver with the GIL released and no borrow of `slf` held, so that other
@@ -105,7 +123,7 @@ fn backend_name(b: core::ActiveBackend) -> &'static str {
     }
 }
 
-fn stats_dict<'py>(py: Python<'py>, s: &StepStats, adapter: Option<String>) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn stats_dict<'py>(py: Python<'py>, s: &StepStats, adapter: Option<String>) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("backend", backend_name(s.backend))?;
     d.set_item("adapter", adapter)?;
@@ -468,6 +486,7 @@ impl Simulation {
     #[pyo3(signature = (dt, frames=1))]
     fn step<'py>(slf: &Bound<'py, Self>, py: Python<'py>, dt: f32, frames: u32) -> PyResult<Bound<'py, PyDict>> {
         crate::errors::guard(|| {
+            let t0 = std::time::Instant::now();
             let stats = Self::detached(slf, |inner| {
                 let mut last = StepStats::default();
                 for _ in 0..frames.max(1) {
@@ -475,10 +494,40 @@ impl Simulation {
                 }
                 Ok::<_, tailor_core::TailorError>(last)
             })?;
+            let wall_s = t0.elapsed().as_secs_f64();
             let stats = stats.map_err(to_py)?;
             let adapter =
                 if stats.backend == core::ActiveBackend::Gpu { slf.borrow().solver()?.adapter() } else { None };
-            stats_dict(py, &stats, adapter)
+            let d = stats_dict(py, &stats, adapter)?;
+            d.set_item("wall_s", wall_s)?;
+            Ok(d)
+        })
+    }
+
+    /// `step` on a native thread: returns at once with a `Pending` (`done`, `wait`, `finish`);
+    /// the simulation says busy until it is finished. With `measure`, the statistics also hold
+    /// `metrics`: `metrics(collider)` of the state reached, computed on the same thread. For
+    /// hosts whose other threads must never run Python meanwhile (Blender: see `background.rs`).
+    #[pyo3(signature = (dt, frames=1, *, measure=false, collider=None))]
+    fn step_async(
+        slf: &Bound<'_, Self>,
+        dt: f32,
+        frames: u32,
+        measure: bool,
+        collider: Option<i64>,
+    ) -> PyResult<crate::background::Pending> {
+        crate::errors::guard(|| {
+            let id = Self::collider_of(slf, collider)?;
+            crate::background::start(slf, crate::background::Work::Step { dt, frames, measure: measure.then_some(id) })
+        })
+    }
+
+    /// `metrics` on a native thread, as `step_async`.
+    #[pyo3(signature = (collider=None))]
+    fn metrics_async(slf: &Bound<'_, Self>, collider: Option<i64>) -> PyResult<crate::background::Pending> {
+        crate::errors::guard(|| {
+            let id = Self::collider_of(slf, collider)?;
+            crate::background::start(slf, crate::background::Work::Metrics(id))
         })
     }
 
@@ -735,8 +784,7 @@ impl Simulation {
     #[pyo3(signature = (collider=None))]
     fn metrics<'py>(slf: &Bound<'py, Self>, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
         crate::errors::guard(|| {
-            let meshes = slf.borrow().solver()?.simulation().num_mesh_colliders();
-            let id = collider.map(|c| colliders::collider_id(c, meshes)).transpose()?;
+            let id = Self::collider_of(slf, collider)?;
             let m = Self::detached(slf, |inner| inner.metrics(id))?.map_err(to_py)?;
             colliders::metrics_dict(py, &m)
         })

@@ -220,7 +220,7 @@ impl ClosedMesh {
         // far from, or deep inside, a coarse mesh) testing every triangle is cheaper.
         let budget = 4 * self.triangles.len() as i64 + 27;
         for r in 0..=r_max {
-            if (2 * r + 1).pow(3) > budget {
+            if (2 * r + 1).saturating_pow(3) > budget {
                 let mut best = (f32::INFINITY, 0u32);
                 for t in 0..self.triangles.len() as u32 {
                     visit_one(t, &mut best);
@@ -270,7 +270,7 @@ impl ClosedMesh {
             closest_point_on_triangle(pv, a, b, cc).0.distance(pv) <= within
         };
         let r_end = ((within / l).ceil() as i64).min(1 << 20);
-        if (2 * r_end + 1).pow(3) > 4 * self.triangles.len() as i64 + 27 {
+        if (2 * r_end + 1).saturating_pow(3) > 4 * self.triangles.len() as i64 + 27 {
             return (0..self.triangles.len() as u32).any(near);
         }
         let query =
@@ -292,10 +292,20 @@ impl ClosedMesh {
         false
     }
 
-    /// How many of `points` are within `within` metres of the surface ([`ClosedMesh::is_within`]),
-    /// in parallel.
+    /// How many of `points` are within `within` metres of the surface: [`ClosedMesh::is_within`]'s
+    /// count, mostly decided by the vertices ([`super::near_surface`]), in parallel.
     pub fn count_within(&self, points: &[[f32; 3]], within: f32) -> usize {
-        points.par_iter().filter(|&&p| self.is_within(p, within)).count()
+        super::near_surface::count_within(self, points, within)
+    }
+
+    /// The mesh's vertices.
+    pub fn vertices(&self) -> &[[f32; 3]] {
+        &self.vertices
+    }
+
+    /// The mesh's triangles.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
     }
 
     /// The area-weighted centroid of the surface (the mean vertex when it has no area).

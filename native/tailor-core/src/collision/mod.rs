@@ -13,7 +13,8 @@
 //! * [`intersect`]: segment-triangle and triangle-triangle intersection predicates.
 //! * [`self_collision`]: particle pairs closer than `2r` found through the hash.
 //! * [`closed_mesh`]: the inside (ray parity) and distance queries of a closed body, behind
-//!   the penetration and on-body measures of [`crate::quality`].
+//!   the penetration and on-body measures of [`crate::quality`]; [`near_surface`]: how many
+//!   points are near it, decided mostly by its vertices.
 //!
 //! Positions come either as structure-of-arrays `f32` slices (the solver's layout) or as
 //! `&[[f32; 3]]` (meshes). Everything called per substep reuses its buffers: after the first
@@ -24,6 +25,7 @@ pub mod collider_hash;
 pub mod geometry;
 pub mod hash;
 pub mod intersect;
+pub mod near_surface;
 pub mod self_collision;
 
 pub use closed_mesh::{ClosedMesh, Penetration};

@@ -190,3 +190,76 @@ def test_painted_pins_attach_in_proportion_to_their_weight():
         g.set_painted("pin", 0, w[:-1])
     with pytest.raises(tailor.InvalidParameterError, match="painted map"):
         g.set_painted("pinn", 0, w)
+
+
+def pc2_count(path) -> int:
+    """The sample count in a PC2 header (0 while the file is not there yet)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(32)
+    except FileNotFoundError:
+        return 0
+    return int.from_bytes(head[28:32], "little", signed=True) if len(head) == 32 else 0
+
+
+def test_a_killed_run_keeps_its_frames_and_resume_finishes_it_as_one_run(tmp_path):
+    """`-o` is a valid cache after every frame: a run killed mid-way keeps the frames it
+    solved (readable as they are), and `--resume` solves them again, checks them, and goes on
+    to the same cache and records as an uninterrupted run; a cache of other settings is
+    refused by the check, not continued."""
+    import signal
+    import time
+
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.05", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15)
+    cache, report = tmp_path / "killed.pc2", tmp_path / "killed.json"
+    args = ["simulate", garment, "--collider", body, "--report", report, "-o", cache]
+    proc = subprocess.Popen([sys.executable, "-m", "tailor", *map(str, args), "--frames", "400"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while pc2_count(cache) < 4 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.002)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    kept = tailor.read_pc2(cache)["frames"]
+    assert 4 <= len(kept) < 30, len(kept)  # killed mid-run, every frame it counted readable
+
+    r = cli(*args, "--frames", "30", "--resume")
+    assert f"solving the {len(kept)} frames" in r.stdout and "frame   30/30" in r.stdout, r.stderr
+    whole, whole_report = tmp_path / "whole.pc2", tmp_path / "whole.json"
+    w = cli("simulate", garment, "--collider", body, "--report", whole_report, "-o", whole, "--frames", "30")
+    assert r.returncode == w.returncode in (0, 3), (r.stderr, w.stderr)  # the same verdict
+    resumed, once = tailor.read_pc2(cache), tailor.read_pc2(whole)
+    np.testing.assert_array_equal(resumed["frames"], once["frames"])
+    np.testing.assert_array_equal(resumed["frames"][: len(kept)], kept)
+    a, b = json.loads(report.read_text()), json.loads(whole_report.read_text())
+    assert a["complete"] and b["complete"]
+    strip = lambda recs: [{k: v for k, v in rec.items() if k != "ms"} for rec in recs]  # noqa: E731
+    assert strip(a["frames"]) == strip(b["frames"])
+
+    # Other settings than the cache was solved with: the first re-solved frame differs.
+    r = cli(*args, "--frames", "30", "--resume", "--substeps", "3")
+    assert r.returncode == 2 and "differs from a new solve" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr
+
+
+def test_the_collider_animation_is_chosen_by_name(tmp_path):
+    """`--animation` plays the glTF clip it names; a name the file does not have, or a mesh
+    that is not glTF, is an error naming what there is."""
+    character = Path(__file__).resolve().parents[1] / "sample_blends" / "character.glb"
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
+    r = cli("simulate", garment, "--collider", character, "--animation", "jump", "--frames", "1",
+            "--report", tmp_path / "r.json")
+    assert r.returncode == 2 and "no animation 'jump'" in r.stderr and "'walk'" in r.stderr, r.stderr
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=1)
+    r = cli("simulate", garment, "--collider", body, "--animation", "walk", "--frames", "1",
+            "--report", tmp_path / "r.json")
+    assert r.returncode == 2 and "not glTF" in r.stderr, r.stderr
+    r = cli("simulate", garment, "--collider", character, "--animation", "walk", "--frames", "2",
+            "--report", tmp_path / "walk.json", "--preset", "preview")
+    assert r.returncode in (0, 3), r.stderr
+    assert len(json.loads((tmp_path / "walk.json").read_text())["frames"]) == 2

@@ -229,6 +229,19 @@ def sewn_tube(
 
 def read_mesh(path: str | PathLike[str]) -> tuple[F32, npt.NDArray[np.uint32]]: ...
 
+class Pc2Stream:
+    """A PC2 cache written frame by frame into its own path, a valid cache after every frame
+    (a crash or a kill keeps every frame finished; `resume` cuts off a frame cut short)."""
+
+    num_samples: int
+    timing: tuple[float, float]
+    def __init__(
+        self, path: str | PathLike[str], num_points: int, start_frame: float = 0.0, sample_rate: float = 1.0
+    ) -> None: ...
+    @staticmethod
+    def resume(path: str | PathLike[str], num_points: int, keep: int | None = None) -> Pc2Stream: ...
+    def push(self, points: ArrayLike) -> None: ...
+
 class AnimatedMesh:
     num_vertices: int
     triangles: npt.NDArray[np.uint32]

@@ -1,5 +1,5 @@
 //! Mesh and point-cache files: `tailor.read_mesh`, `tailor.AnimatedMesh` (glTF skins),
-//! `tailor.read_pc2`, `tailor.write_pc2`.
+//! `tailor.read_pc2`, `tailor.write_pc2`, `tailor.Pc2Stream` (a cache written frame by frame).
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -112,4 +112,57 @@ pub fn write_pc2(
         };
         py.detach(|| io::pc2::write_pc2(&path, &cache)).map_err(to_py)
     })
+}
+
+/// A PC2 cache written frame by frame into its own path, a valid cache after every frame
+/// (`tailor simulate -o` writes this way: a crash or a kill keeps every frame finished).
+#[pyclass(module = "tailor")]
+pub struct Pc2Stream {
+    inner: io::pc2_stream::Pc2Stream,
+}
+
+#[pymethods]
+impl Pc2Stream {
+    /// A new cache of `num_points` points at `path` (replacing any file there).
+    #[new]
+    #[pyo3(signature = (path, num_points, start_frame=0.0, sample_rate=1.0))]
+    fn new(path: std::path::PathBuf, num_points: usize, start_frame: f32, sample_rate: f32) -> PyResult<Self> {
+        crate::errors::guard(|| {
+            let inner =
+                io::pc2_stream::Pc2Stream::create(&path, num_points, start_frame, sample_rate).map_err(to_py)?;
+            Ok(Self { inner })
+        })
+    }
+
+    /// Goes on with the cache at `path` (it must hold `num_points` points), keeping its first
+    /// `keep` whole frames (all when None) and cutting off anything after them.
+    #[staticmethod]
+    #[pyo3(signature = (path, num_points, keep=None))]
+    fn resume(path: std::path::PathBuf, num_points: usize, keep: Option<usize>) -> PyResult<Self> {
+        crate::errors::guard(|| {
+            let inner = io::pc2_stream::Pc2Stream::resume(&path, num_points, keep).map_err(to_py)?;
+            Ok(Self { inner })
+        })
+    }
+
+    /// Appends one frame ((num_points, 3)), then counts it in the header.
+    fn push(&mut self, py: Python<'_>, points: &Bound<'_, PyAny>) -> PyResult<()> {
+        crate::errors::guard(|| {
+            let p = points3(points, "pc2 frame")?;
+            let inner = &mut self.inner;
+            py.detach(|| inner.push_frame(&p)).map_err(to_py)
+        })
+    }
+
+    /// Frames in the cache.
+    #[getter]
+    fn num_samples(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.inner.num_samples()))
+    }
+
+    /// The header's (start frame, sample rate).
+    #[getter]
+    fn timing(&self) -> PyResult<(f32, f32)> {
+        crate::errors::guard(|| Ok(self.inner.timing()))
+    }
 }

@@ -46,6 +46,7 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<background::Pending>()?;
     m.add_function(wrap_pyfunction!(scenes::sewn_tube, m)?)?;
     m.add_class::<io::AnimatedMesh>()?;
+    m.add_class::<io::Pc2Stream>()?;
     m.add_function(wrap_pyfunction!(io::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(io::read_pc2, m)?)?;
     m.add_function(wrap_pyfunction!(io::write_pc2, m)?)?;

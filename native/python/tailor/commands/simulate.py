@@ -1,10 +1,12 @@
 """``tailor simulate``: simulate a garment file on a collider mesh, headless.
 
-    python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE] --frames N
-        [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json [-o CACHE.pc2]
+    python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE | --animation NAME]
+        --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
+        [-o CACHE.pc2 [--resume]]
 
-MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays); CACHE is a PC2 file
-of the collider's vertex positions per frame (both read by ``tailor.motion.ColliderMotion``).
+MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or the one
+``--animation`` names); CACHE is a PC2 file of the collider's vertex positions per frame (both
+read by ``tailor.motion.ColliderMotion``).
 Gravity points down the up axis: Y for OBJ and glTF files by their convention, Z for PLY,
 unless ``--up`` says. The garment assembles (its seams close under the damping ramp) and
 follows the collider. The report holds one record per frame
@@ -17,6 +19,13 @@ inside the body (deeper than 1 cm, or over 1 % of the particles) or the solve di
 records carry ``on_body_fraction``, ``centroid_shift_m`` and ``failed``; the summary the worst of
 them and its ``verdict``: each failed check with the first frame that failed it and why, printed
 as a ``warning:`` line.
+
+Progress: one line per frame on stdout. ``-o`` is written frame by frame (``tailor.Pc2Stream``:
+a valid cache of the frames done after every frame), and the report every 10 frames
+(``"complete": false`` until the end): a run that crashes or is killed keeps what it did.
+``--resume`` goes on from the frames in ``-o``: it solves them again (the solver's state is not
+on disk), checks that each comes out identical (else: the garment, collider or settings
+changed, and it stops with an error), and continues to ``--frames``.
 
 Exit status: 0 when the result passes its checks; 1 when the solve diverged (NaN); 3
 (``FAILED_CHECKS``) when it ran to the end but fails a check (fell, open, inside); 2 on an error
@@ -48,12 +57,16 @@ def register(sub):
     p.add_argument("garment", metavar="GARMENT_FILE")
     p.add_argument("--collider", metavar="MESH", required=True, help="OBJ, PLY or glTF/GLB collider")
     p.add_argument("--collider-anim", metavar="CACHE", help="PC2 file of collider positions per frame")
+    p.add_argument("--animation", metavar="NAME", help="the glTF collider's animation to play (default: its first)")
     p.add_argument("--frames", type=int, required=True)
     p.add_argument("--fps", type=float, default=30.0)
     p.add_argument("--backend", choices=("auto", "cpu", "gpu"), default="auto")
     p.add_argument("--up", choices=("y", "z"), help="up axis (default: y for OBJ/glTF, z for PLY)")
     p.add_argument("--report", metavar="REPORT.json", required=True)
-    p.add_argument("-o", "--output", metavar="CACHE.pc2", help="write the garment's positions per frame")
+    p.add_argument("-o", "--output", metavar="CACHE.pc2",
+                   help="write the garment's positions, frame by frame as they are solved")
+    p.add_argument("--resume", action="store_true",
+                   help="go on from the frames already in -o (solved again and checked, then continued)")
     p.add_argument("--edge", type=float, help="re-triangulate every piece at this edge length first")
     p.add_argument("--preset", choices=("preview", "final"), default="final",
                    help="quality preset: substeps, iterations and tolerance (default final, as the add-on)")
@@ -91,7 +104,9 @@ def run(args):
         substeps=preset.substeps if args.substeps is None else args.substeps,
         iterations=preset.iterations if args.iterations is None else args.iterations,
         tolerance=preset.tolerance, gravity=gravity)
-    motion = ColliderMotion(args.collider, args.collider_anim, fps=args.fps)
+    if args.resume and not args.output:
+        raise tailor.InvalidParameterError("--resume needs -o CACHE.pc2: the frames it goes on from")
+    motion = ColliderMotion(args.collider, args.collider_anim, animation=args.animation, fps=args.fps)
     d = dressing.dress(garment, motion.at(0), motion.triangles, settings=settings, backend=args.backend,
                        thickness=args.thickness, self_collision=args.self_collision, collider_friction=None,
                        strict=False)
@@ -108,31 +123,47 @@ def run(args):
     run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0,
                     pins=pins if len(pins.particles) else None)
     run.step([motion.at(0)])
+    at = lambda f: [motion.at(f - 1)]  # noqa: E731  (frame f: the collider at the motion's frame f - 1)
     frames = []
+    cache = None
+    if args.resume and os.path.exists(args.output):
+        cache = tailor.Pc2Stream.resume(args.output, sim.num_particles, keep=args.frames)
+        done = tailor.read_pc2(args.output)["frames"]
+        print(f"resume: solving the {len(done)} frames of {args.output} again and checking them", flush=True)
+        run.replay(done, at)
+        frames = run.records[1:]
+    elif args.output:
+        cache = tailor.Pc2Stream(args.output, sim.num_particles, start_frame=1.0, sample_rate=1.0)
+
+    def report(complete: bool) -> dict:
+        summary = bake.summarize(frames)
+        doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
+               "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached), "complete": complete}
+        Path(args.report).parent.mkdir(parents=True, exist_ok=True)
+        tmp = args.report + ".tmp"
+        with open(tmp, "w") as fh:
+            json.dump(doc, fh, indent=1)
+        os.replace(tmp, args.report)
+        return summary
+
     while run.next_frame <= args.frames:
         f = run.next_frame
         try:
-            rec = run.step([motion.at(f - 1)])
+            rec = run.step(at(f))
         except tailor.SimulationError as exc:
             warnings.append(f"frame {f}: {exc}")
             rec = run.record_failure()
         frames.append(rec)
-        if f % 10 == 0 or f == 1 or f == args.frames:
-            print(f"frame {f:4d}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
-                  f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
-                  f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "
-                  f"on body {rec['on_body_fraction'] * 100:.0f} %, centroid moved {rec['centroid_shift_m'] * 1e2:.1f} cm, "
-                  f"on the {(rec.get('backend') or '-').upper()}")
-    summary = bake.summarize(frames)
-    report = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
-              "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached)}
-    Path(args.report).parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.report + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(report, fh, indent=1)
-    os.replace(tmp, args.report)
-    if args.output:
-        bake.write_pc2_atomic(args.output, run.positions()[1:], start_frame=1.0, sample_rate=1.0)
+        if cache is not None:
+            cache.push(run.frames[-1])
+        print(f"frame {f:4d}/{args.frames}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
+              f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
+              f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "
+              f"on body {rec['on_body_fraction'] * 100:.0f} %, centroid moved {rec['centroid_shift_m'] * 1e2:.1f} cm, "
+              f"on the {(rec.get('backend') or '-').upper()}", flush=True)
+        if f % 10 == 0:
+            report(complete=False)
+    summary = report(complete=True)
     for w in warnings:
         print(f"warning: {w}")
     for line in bake.verdict_lines(summary):

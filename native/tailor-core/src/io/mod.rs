@@ -8,6 +8,7 @@
 pub mod gltf;
 pub mod obj;
 pub mod pc2;
+pub mod pc2_stream;
 pub mod ply;
 
 use std::path::Path;

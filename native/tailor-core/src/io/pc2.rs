@@ -56,9 +56,13 @@ pub fn parse_pc2(b: &[u8], file: &str) -> Result<PointCache> {
     }
     let (np, ns) = (num_points as usize, num_samples as usize);
     let expected = HEADER_LEN as u128 + 12 * np as u128 * ns as u128;
-    if b.len() as u128 != expected {
+    // Up to one frame past the count is a frame that a stream (`pc2_stream.rs`) was appending
+    // when its writer stopped (killed, crashed): the samples counted are whole, and read.
+    let (len, frame) = (b.len() as u128, 12 * np as u128);
+    if len < expected || len > expected + frame {
         return Err(err(format!("{np} points × {ns} samples need {expected} bytes but the file has {}", b.len())));
     }
+    let b = &b[..expected as usize];
     let floats: Vec<f32> =
         b[HEADER_LEN..].chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
     let frames = (0..ns)
@@ -221,10 +225,18 @@ mod tests {
         assert_eq!(read_pc2(&path).unwrap(), cache);
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
 
-        let mut bytes = std::fs::read(&path).unwrap();
+        let whole = std::fs::read(&path).unwrap();
+        let mut bytes = whole.clone();
         bytes.pop();
         let e = parse_pc2(&bytes, "cut.pc2").unwrap_err();
         assert!(e.to_string().starts_with("cut.pc2: header: 3 points × 4 samples need"), "{e}");
+        // A frame being appended when its writer stopped (up to one frame past the count) is
+        // not read; more than that is an error.
+        let mut bytes = whole;
+        bytes.extend([1u8; 36]);
+        assert_eq!(parse_pc2(&bytes, "appended.pc2").unwrap(), cache);
+        bytes.push(1);
+        assert!(parse_pc2(&bytes, "long.pc2").is_err());
         let e = parse_pc2(b"POINTCACHE3\0", "x.pc2").unwrap_err();
         assert!(e.to_string().contains("magic"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();

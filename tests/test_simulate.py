@@ -263,3 +263,38 @@ def test_the_collider_animation_is_chosen_by_name(tmp_path):
             "--report", tmp_path / "walk.json", "--preset", "preview")
     assert r.returncode in (0, 3), r.stderr
     assert len(json.loads((tmp_path / "walk.json").read_text())["frames"]) == 2
+
+
+def test_usd_output_is_the_welded_garment_with_time_samples_and_uvs(tmp_path):
+    """`--usd`: one welded mesh (no crack along the seams: each seam's two rows of particles are
+    one row of points), its points sampled at every frame and equal to the PC2's frames welded,
+    the pattern's UVs per face corner, Y up and metres, read back with `pxr`."""
+    from pxr import Usd, UsdGeom
+
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.05", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
+    usd, cache = tmp_path / "skirt.usdc", tmp_path / "skirt.pc2"
+    r = cli("simulate", garment, "--collider", body, "--frames", "12", "--report", tmp_path / "r.json", "-o", cache,
+            "--usd", usd, "--preset", "preview")
+    assert r.returncode in (0, 3), r.stderr
+    stage = Usd.Stage.Open(str(usd))
+    assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.y and UsdGeom.GetStageMetersPerUnit(stage) == 1.0
+    mesh = UsdGeom.Mesh(stage.GetPrimAtPath("/Garment/skirt"))
+    points = mesh.GetPointsAttr()
+    assert points.GetTimeSamples() == [float(f) for f in range(1, 13)]
+    frames = tailor.read_pc2(cache)["frames"]
+    g = tailor.Garment.load(garment)
+    sim, _ = g.build_simulation()
+    w = tailor.weld(sim.positions, sim.triangles, sim.seam_pairs())
+    assert w.num_vertices < sim.num_particles  # welded: the seams' two sides are one
+    for f in (1, 7, 12):
+        np.testing.assert_allclose(np.array(points.Get(f)), w.apply(frames[f - 1]), atol=1e-6)
+    faces = np.array(mesh.GetFaceVertexIndicesAttr().Get())
+    assert len(faces) == 3 * len(w.triangles) and faces.max() == w.num_vertices - 1
+    st = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("st")
+    assert st.GetInterpolation() == UsdGeom.Tokens.faceVarying and len(st.Get()) == len(faces)
+    r = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", tmp_path / "r2.json",
+            "--usd", tmp_path / "skirt.abc")
+    assert r.returncode == 2 and ".usda" in r.stderr, r.stderr

@@ -2,7 +2,7 @@
 
     python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE | --animation NAME]
         --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
-        [-o CACHE.pc2 [--resume]]
+        [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd]
 
 MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or the one
 ``--animation`` names); CACHE is a PC2 file of the collider's vertex positions per frame (both
@@ -19,6 +19,10 @@ inside the body (deeper than 1 cm, or over 1 % of the particles) or the solve di
 records carry ``on_body_fraction``, ``centroid_shift_m`` and ``failed``; the summary the worst of
 them and its ``verdict``: each failed check with the first frame that failed it and why, printed
 as a ``warning:`` line.
+
+``--usd`` also writes the garment welded along its seams as one USD mesh with time-sampled
+points and the pattern's UVs (``tailor.usd.UsdCache``; needs PyPI's ``usd-core``), saved
+every 10 frames and at the end, its up axis the run's.
 
 Progress: one line per frame on stdout. ``-o`` is written frame by frame (``tailor.Pc2Stream``:
 a valid cache of the frames done after every frame), and the report every 10 frames
@@ -65,6 +69,8 @@ def register(sub):
     p.add_argument("--report", metavar="REPORT.json", required=True)
     p.add_argument("-o", "--output", metavar="CACHE.pc2",
                    help="write the garment's positions, frame by frame as they are solved")
+    p.add_argument("--usd", metavar="GARMENT.usd",
+                   help="also write the garment welded along its seams as USD (.usd, .usda or .usdc; needs usd-core)")
     p.add_argument("--resume", action="store_true",
                    help="go on from the frames already in -o (solved again and checked, then continued)")
     p.add_argument("--edge", type=float, help="re-triangulate every piece at this edge length first")
@@ -89,7 +95,11 @@ def run(args):
     tailor.check_playback(args.fps, args.frames)
     inputs = [("GARMENT_FILE", args.garment), ("GARMENT_FILE's sidecar", tailor.sidecar_path(args.garment)),
               ("--collider", args.collider)] + ([("--collider-anim", args.collider_anim)] if args.collider_anim else [])
-    tailor.check_outputs(inputs, [("--report", args.report)] + ([("-o", args.output)] if args.output else []))
+    outputs = [("--report", args.report)] + [(flag, path) for flag, path in (("-o", args.output), ("--usd", args.usd))
+                                              if path]
+    tailor.check_outputs(inputs, outputs)
+    if args.usd and Path(args.usd).suffix.lower() not in (".usd", ".usda", ".usdc"):
+        raise tailor.InvalidParameterError(f"--usd {args.usd}: a USD file ends in .usd, .usda or .usdc")
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
     gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
     warnings = []
@@ -134,6 +144,12 @@ def run(args):
         frames = run.records[1:]
     elif args.output:
         cache = tailor.Pc2Stream(args.output, sim.num_particles, start_frame=1.0, sample_rate=1.0)
+    usd = None
+    if args.usd:
+        from tailor.usd import UsdCache
+
+        usd = UsdCache(args.usd, sim, start_frame=1.0, fps=args.fps, up=up, name=Path(args.garment).stem)
+        usd.add_all(run.frames[1:])  # the frames a resume solved again
 
     def report(complete: bool) -> dict:
         summary = bake.summarize(frames)
@@ -156,6 +172,8 @@ def run(args):
         frames.append(rec)
         if cache is not None:
             cache.push(run.frames[-1])
+        if usd is not None:
+            usd.add(run.frames[-1])
         print(f"frame {f:4d}/{args.frames}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
               f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
               f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "
@@ -164,6 +182,8 @@ def run(args):
         if f % 10 == 0:
             report(complete=False)
     summary = report(complete=True)
+    if usd is not None:
+        usd.close()
     for w in warnings:
         print(f"warning: {w}")
     for line in bake.verdict_lines(summary):

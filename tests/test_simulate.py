@@ -265,10 +265,11 @@ def test_the_collider_animation_is_chosen_by_name(tmp_path):
     assert len(json.loads((tmp_path / "walk.json").read_text())["frames"]) == 2
 
 
-def test_usd_output_is_the_welded_garment_with_time_samples_and_uvs(tmp_path):
+def test_usd_and_obj_outputs_are_the_welded_garment_with_uvs(tmp_path):
     """`--usd`: one welded mesh (no crack along the seams: each seam's two rows of particles are
     one row of points), its points sampled at every frame and equal to the PC2's frames welded,
-    the pattern's UVs per face corner, Y up and metres, read back with `pxr`."""
+    the pattern's UVs per face corner, Y up and metres, read back with `pxr`. `--obj-dir`: the
+    same mesh as one OBJ a frame, read back to the bit, with a UV per corner."""
     from pxr import Usd, UsdGeom
 
     garment = tmp_path / "skirt.json"
@@ -277,7 +278,7 @@ def test_usd_output_is_the_welded_garment_with_time_samples_and_uvs(tmp_path):
     write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
     usd, cache = tmp_path / "skirt.usdc", tmp_path / "skirt.pc2"
     r = cli("simulate", garment, "--collider", body, "--frames", "12", "--report", tmp_path / "r.json", "-o", cache,
-            "--usd", usd, "--preset", "preview")
+            "--usd", usd, "--preset", "preview", "--obj-dir", tmp_path / "objs")
     assert r.returncode in (0, 3), r.stderr
     stage = Usd.Stage.Open(str(usd))
     assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.y and UsdGeom.GetStageMetersPerUnit(stage) == 1.0
@@ -295,6 +296,12 @@ def test_usd_output_is_the_welded_garment_with_time_samples_and_uvs(tmp_path):
     assert len(faces) == 3 * len(w.triangles) and faces.max() == w.num_vertices - 1
     st = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("st")
     assert st.GetInterpolation() == UsdGeom.Tokens.faceVarying and len(st.Get()) == len(faces)
+    objs = sorted((tmp_path / "objs").glob("skirt.*.obj"))
+    assert [o.name for o in objs] == [f"skirt.{f:04d}.obj" for f in range(1, 13)]
+    v, t = tailor.read_mesh(objs[6])
+    np.testing.assert_array_equal(v, w.apply(frames[6]))
+    np.testing.assert_array_equal(t, w.triangles)
+    assert sum(line.startswith("vt ") for line in objs[6].read_text().splitlines()) == len(faces)
     r = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", tmp_path / "r2.json",
             "--usd", tmp_path / "skirt.abc")
     assert r.returncode == 2 and ".usda" in r.stderr, r.stderr

@@ -229,6 +229,10 @@ def sewn_tube(
 
 def read_mesh(path: str | PathLike[str]) -> tuple[F32, npt.NDArray[np.uint32]]: ...
 
+def write_obj(
+    path: str | PathLike[str], positions: ArrayLike, triangles: ArrayLike, uv: ArrayLike | None = None
+) -> None: ...
+
 class Pc2Stream:
     """A PC2 cache written frame by frame into its own path, a valid cache after every frame
     (a crash or a kill keeps every frame finished; `resume` cuts off a frame cut short)."""

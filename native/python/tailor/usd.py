@@ -1,17 +1,12 @@
-"""A baked garment as USD: one welded ``UsdGeom.Mesh`` with time-sampled points and the
-pattern's UVs, the format Houdini, Maya, Unreal, Omniverse and Blender all read without a
-plug-in (``tailor simulate --usd``).
+"""A baked garment as USD: one ``UsdGeom.Mesh`` with time-sampled points and the pattern's UVs,
+the garment welded along its seams (``tailor.export.WeldedGarment``), the format Houdini, Maya,
+Unreal, Omniverse and Blender all read without a plug-in (``tailor simulate --usd``).
 
-The simulation's particles are the pieces' vertices, so a seam is two rows of vertices in the
-same place: a cache per particle shows a crack along every seam once shaded. The USD mesh is the
-garment welded along its seams (``tailor.weld``: one vertex where the seam's two sides meet),
-each frame's points carried over by the weld (``WeldedMesh.apply``), and the pattern's flat
-rest coordinates become its UVs, per face corner (``primvars:st``, ``faceVarying``: a seam's
-two sides keep their own UVs). The stage says its up axis and that a unit is a metre.
-
-Frames are added as they are solved (``add``) and the layer is saved every ``save_every`` frames
-and at the end (``close``): USD rewrites its file on each save, so a crash loses at most the
-frames since the last save. ``pxr`` comes from PyPI's ``usd-core``; it is imported only here.
+The UVs are ``primvars:st``, ``faceVarying`` (a seam's two sides keep their own). The stage says
+its up axis and that a unit is a metre. Frames are added as they are solved (``add``) and the
+layer is saved every ``save_every`` frames and at the end (``close``): USD rewrites its file on
+each save, so a crash loses at most the frames since the last save. ``pxr`` comes from PyPI's
+``usd-core``; it is imported only here.
 """
 
 from __future__ import annotations
@@ -21,7 +16,8 @@ from typing import Sequence
 
 import numpy as np
 
-from tailor._tailor import Simulation, TailorIOError, weld
+from tailor._tailor import Simulation, TailorIOError
+from tailor.export import WeldedGarment
 
 
 class UsdCache:
@@ -37,8 +33,7 @@ class UsdCache:
                                 "(pip install usd-core)") from exc
         self._Vt, self._Gf = Vt, Gf
         self.path, self.start_frame, self.save_every = os.fspath(path), float(start_frame), int(save_every)
-        triangles = np.asarray(sim.triangles, np.int64)
-        self.weld = weld(sim.positions, triangles.astype(np.uint32), sim.seam_pairs())
+        self.garment = WeldedGarment(sim)
         self.frames = 0
         self.stage = Usd.Stage.CreateNew(self.path) if not os.path.exists(self.path) else None
         if self.stage is None:  # CreateNew refuses an existing file: start it afresh
@@ -52,22 +47,20 @@ class UsdCache:
         root = UsdGeom.Xform.Define(self.stage, "/Garment")
         self.stage.SetDefaultPrim(root.GetPrim())
         self.mesh = UsdGeom.Mesh.Define(self.stage, f"/Garment/{_prim_name(name)}")
-        tris = np.asarray(self.weld.triangles, np.int32)
+        tris = self.garment.triangles.astype(np.int32)
         self.mesh.CreateFaceVertexCountsAttr(Vt.IntArray.FromNumpy(np.full(len(tris), 3, np.int32)))
         self.mesh.CreateFaceVertexIndicesAttr(Vt.IntArray.FromNumpy(tris.reshape(-1)))
         self.mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
         self.mesh.CreateDoubleSidedAttr(True)
-        rest = np.asarray(sim.rest, np.float32)
-        uv = np.asarray(self.weld.apply_corners(rest[triangles.reshape(-1)]), np.float32)
         st = UsdGeom.PrimvarsAPI(self.mesh).CreatePrimvar("st", Sdf.ValueTypeNames.TexCoord2fArray,
                                                             UsdGeom.Tokens.faceVarying)
-        st.Set(Vt.Vec2fArray.FromNumpy(uv.reshape(-1, 2)))
+        st.Set(Vt.Vec2fArray.FromNumpy(self.garment.corner_uvs))
         self._points = self.mesh.CreatePointsAttr()
         self._extent = self.mesh.CreateExtentAttr()
 
     def add(self, positions: np.ndarray) -> None:
         """The next frame: the particles' positions ((n, 3), as `Simulation.positions`)."""
-        p = np.ascontiguousarray(self.weld.apply(np.asarray(positions, np.float32)), np.float32)
+        p = self.garment.points(positions)
         t = self.start_frame + self.frames
         self._points.Set(self._Vt.Vec3fArray.FromNumpy(p), t)
         lo, hi = p.min(axis=0), p.max(axis=0)

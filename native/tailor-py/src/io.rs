@@ -1,5 +1,6 @@
 //! Mesh and point-cache files: `tailor.read_mesh`, `tailor.AnimatedMesh` (glTF skins),
-//! `tailor.read_pc2`, `tailor.write_pc2`, `tailor.Pc2Stream` (a cache written frame by frame).
+//! `tailor.read_pc2`, `tailor.write_pc2`, `tailor.Pc2Stream` (a cache written frame by frame),
+//! `tailor.write_obj`.
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -165,4 +166,23 @@ impl Pc2Stream {
     fn timing(&self) -> PyResult<(f32, f32)> {
         crate::errors::guard(|| Ok(self.inner.timing()))
     }
+}
+
+/// Writes a triangle mesh as Wavefront OBJ, atomically: `positions` (n, 3), `triangles` (m, 3)
+/// and, optionally, `uv` (3m, 2): texture coordinates per triangle corner.
+#[pyfunction]
+#[pyo3(signature = (path, positions, triangles, uv=None))]
+pub fn write_obj(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    positions: &Bound<'_, PyAny>,
+    triangles: &Bound<'_, PyAny>,
+    uv: Option<&Bound<'_, PyAny>>,
+) -> PyResult<()> {
+    crate::errors::guard(|| {
+        let p = points3(positions, "positions")?;
+        let t = crate::convert::triangles(triangles, "triangles")?;
+        let uv = uv.map(|u| crate::convert::points2(u, "uv")).transpose()?;
+        py.detach(|| io::obj_write::write_obj(&path, &p, &t, uv.as_deref())).map_err(to_py)
+    })
 }

@@ -50,6 +50,7 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(io::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(io::read_pc2, m)?)?;
     m.add_function(wrap_pyfunction!(io::write_pc2, m)?)?;
+    m.add_function(wrap_pyfunction!(io::write_obj, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::penetration, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::count_self_intersections, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::edge_strain, m)?)?;

@@ -2,7 +2,7 @@
 
     python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE | --animation NAME]
         --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
-        [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd]
+        [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd] [--obj-dir DIR]
 
 MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or the one
 ``--animation`` names); CACHE is a PC2 file of the collider's vertex positions per frame (both
@@ -22,7 +22,8 @@ as a ``warning:`` line.
 
 ``--usd`` also writes the garment welded along its seams as one USD mesh with time-sampled
 points and the pattern's UVs (``tailor.usd.UsdCache``; needs PyPI's ``usd-core``), saved
-every 10 frames and at the end, its up axis the run's.
+every 10 frames and at the end, its up axis the run's. ``--obj-dir`` writes the same welded
+garment as one OBJ a frame (``DIR/GARMENT.0001.obj`` on, with UVs; ``tailor.export``).
 
 Progress: one line per frame on stdout. ``-o`` is written frame by frame (``tailor.Pc2Stream``:
 a valid cache of the frames done after every frame), and the report every 10 frames
@@ -71,6 +72,8 @@ def register(sub):
                    help="write the garment's positions, frame by frame as they are solved")
     p.add_argument("--usd", metavar="GARMENT.usd",
                    help="also write the garment welded along its seams as USD (.usd, .usda or .usdc; needs usd-core)")
+    p.add_argument("--obj-dir", metavar="DIR",
+                   help="also write the garment welded along its seams as one OBJ a frame (DIR/NAME.0001.obj, ...)")
     p.add_argument("--resume", action="store_true",
                    help="go on from the frames already in -o (solved again and checked, then continued)")
     p.add_argument("--edge", type=float, help="re-triangulate every piece at this edge length first")
@@ -150,6 +153,13 @@ def run(args):
 
         usd = UsdCache(args.usd, sim, start_frame=1.0, fps=args.fps, up=up, name=Path(args.garment).stem)
         usd.add_all(run.frames[1:])  # the frames a resume solved again
+    objs = None
+    if args.obj_dir:
+        from tailor.export import ObjSequence, WeldedGarment
+
+        objs = ObjSequence(args.obj_dir, WeldedGarment(sim), name=Path(args.garment).stem)
+        for f in run.frames[1:]:
+            objs.add(f)
 
     def report(complete: bool) -> dict:
         summary = bake.summarize(frames)
@@ -174,6 +184,8 @@ def run(args):
             cache.push(run.frames[-1])
         if usd is not None:
             usd.add(run.frames[-1])
+        if objs is not None:
+            objs.add(run.frames[-1])
         print(f"frame {f:4d}/{args.frames}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
               f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
               f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "

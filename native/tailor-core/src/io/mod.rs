@@ -7,6 +7,7 @@
 
 pub mod gltf;
 pub mod obj;
+pub mod obj_write;
 pub mod pc2;
 pub mod pc2_stream;
 pub mod ply;

@@ -77,14 +77,18 @@ def test_proxy_is_isotropic_follows_the_body_and_is_hidden_from_render(addon, tm
     assert np.abs(a - b).max() > 0.05
 
 
-def test_bake_walks_plays_back_and_keeps_quality(addon, tmp_path):
+def test_bake_walks_plays_back_and_keeps_quality(addon, tmp_path, capsys):
     import tailor
 
     sc = shirt_on_character(tmp_path / "scene.blend", frames=FRAMES)
     scene, pieces = sc["scene"], sc["pieces"]
     rest_co = {o.name: np.array([v.co[:] for v in o.data.vertices], np.float32) for o in pieces}
+    capsys.readouterr()
     assert bpy.ops.tailor.bake() == {"FINISHED"}
     n = FRAMES[1] - FRAMES[0] + 1
+    # Headless, the log shows every frame (a render farm's only progress).
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("Tailor: frame ")]
+    assert len(lines) == n and lines[-1].startswith(f"Tailor: frame {FRAMES[1]} ({n}/{n}) "), lines
     # One PC2 per piece, beside the .blend, and the quality report.
     caches = read_caches(tmp_path)
     assert len(caches) == len(pieces)

@@ -217,6 +217,15 @@ class BakeJob:
         return bake.summary_text(self.run.summary())
 
 
+def progress_line(rec: dict, done: int, total: int) -> str:
+    """One frame of a bake as the log line a headless bake prints (`tailor simulate`'s figures)."""
+    on_body = rec.get("on_body_fraction")
+    return (f"Tailor: frame {rec['frame']} ({done}/{total}) {rec['ms']:.0f} ms, seam gap "
+            f"{rec['seam_gap_max_m'] * 1e3:.2f} mm, penetrations {rec['penetration_count']}, "
+            f"on body {'-' if on_body is None else f'{on_body * 100:.0f} %'}"
+            + (", FAILED " + ", ".join(f["check"] for f in rec["failed"]) if rec.get("failed") else ""))
+
+
 def finish(scene, job: BakeJob, cancelled: bool) -> str:
     """Ends a bake (done or cancelled): writes the caches and the report with every frame done,
     attaches the Mesh Cache modifiers, keeps a cancelled job for `resume`, puts the timeline

@@ -163,9 +163,13 @@ class TAILOR_OT_bake(bpy.types.Operator):
     def execute(self, context):
         frame = context.scene.frame_current
         job, _ = self._begin(context)
+        total = job.end - job.start + 1
         try:
             while not job.done:
-                job.step()
+                rec = job.step()
+                # Headless (`blender -b ... bpy.ops.tailor.bake()`), a render farm's log is the
+                # only progress there is: one line a frame.
+                print(bake_job.progress_line(rec, len(job.run.frames), total), flush=True)
         except Exception:
             context.scene.frame_set(frame)  # the frames done are dropped: nothing was written
             raise

@@ -305,3 +305,40 @@ def test_usd_and_obj_outputs_are_the_welded_garment_with_uvs(tmp_path):
     r = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", tmp_path / "r2.json",
             "--usd", tmp_path / "skirt.abc")
     assert r.returncode == 2 and ".usda" in r.stderr, r.stderr
+
+
+def test_a_collider_with_another_up_axis_is_turned_into_the_garments(tmp_path):
+    """A garment file that states its up axis (`setup["up"]`) and a collider with the other one:
+    the collider is turned into the garment's coordinates, gravity follows the garment's axis,
+    and the run is the very run of the same body given in the garment's axis (the turn is
+    exact: swaps and sign flips)."""
+    from tailor.motion import turn_up
+
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.06", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
+    r = cli("simulate", garment, "--collider", body, "--frames", "6", "--report", tmp_path / "a.json",
+            "-o", tmp_path / "a.pc2", "--preset", "preview")
+    assert r.returncode in (0, 3), r.stderr
+    # The same garment saying it is Y up, on the ball written Z up.
+    g = tailor.Garment.load(garment)
+    g.setup = {**g.setup, "up": "y"}
+    stated = tmp_path / "stated.json"
+    g.save(stated)
+    v, t = tailor.read_mesh(body)
+    z_up = tmp_path / "ball_z.obj"
+    with open(z_up, "w") as fh:
+        fh.writelines(f"v {p[0]!r} {p[1]!r} {p[2]!r}\n" for p in turn_up(v, "y", "z").tolist())
+        fh.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in t.tolist())
+    r = cli("simulate", stated, "--collider", z_up, "--up", "z", "--frames", "6", "--report", tmp_path / "b.json",
+            "-o", tmp_path / "b.pc2", "--preset", "preview")
+    assert r.returncode in (0, 3), r.stderr
+    assert "the collider is Z up and the garment Y up" in r.stdout
+    rep = json.loads((tmp_path / "b.json").read_text())
+    assert (rep["up"], rep["collider_up"]) == ("y", "z")
+    np.testing.assert_array_equal(tailor.read_pc2(tmp_path / "b.pc2")["frames"],
+                                  tailor.read_pc2(tmp_path / "a.pc2")["frames"])
+    np.testing.assert_array_equal(turn_up(turn_up(v, "y", "z"), "z", "y"), v)
+    with pytest.raises(tailor.InvalidParameterError, match="'x'"):
+        turn_up(v, "y", "x")

@@ -109,6 +109,7 @@ class SimSettings:
             "pin_stiffness": float(self.pin_stiffness),
             "seam_stiffness": float(self.seam_stiffness),
             "seam_bend_stiffness": float(self.seam_bend_stiffness),
+            "up": "z",  # Blender's world: `tailor simulate` turns a Y-up collider to match
         }
 
 

@@ -16,6 +16,11 @@ three kinds of input, so that the rule for each is written once:
 placed for that pose assembles; ``tailor.bake.Bake`` takes it as its ``assembly`` pose. Past the
 end of a clip or cache the last pose holds, or, with ``loop``, the motion starts over.
 
+A collider whose up axis is not the garment's (a Y-up glTF body, a garment the Blender add-on
+exported, Z up) is turned into the garment's coordinates with ``turn_up`` (``tailor simulate``
+does when the garment file states its up axis): a rotation about X, so triangles keep their
+winding and the turned body faces the way the garment was placed round it.
+
 The positions go to ``tailor.bake.Bake`` (``lambda f: [motion.at(f)]``), which sets them on the
 solver; nothing here touches a simulation.
 """
@@ -30,6 +35,21 @@ import numpy as np
 from tailor._tailor import AnimatedMesh, InvalidParameterError, check_playback, read_mesh, read_pc2
 
 GLTF = (".glb", ".gltf")
+
+
+def turn_up(points: np.ndarray, frm: str, to: str) -> np.ndarray:
+    """`points` ((n, 3)) from coordinates with `frm` up ("y" or "z") into coordinates with `to`
+    up: Y up to Z up is (x, y, z) -> (x, -z, y), as Blender's glTF importer maps glTF; Z up to Y
+    up the inverse, (x, y, z) -> (x, z, -y). Both are rotations (determinant 1)."""
+    for axis in (frm, to):
+        if axis not in ("y", "z"):
+            raise InvalidParameterError(f"up axis '{axis}': expected 'y' or 'z'")
+    p = np.asarray(points, np.float32)
+    if frm == to:
+        return p
+    if frm == "y":
+        return np.ascontiguousarray(np.stack([p[:, 0], -p[:, 2], p[:, 1]], axis=1), np.float32)
+    return np.ascontiguousarray(np.stack([p[:, 0], p[:, 2], -p[:, 1]], axis=1), np.float32)
 
 
 class ColliderMotion:
@@ -84,6 +104,14 @@ class ColliderMotion:
                                             f"{self.path} has {len(self.rest)} vertices")
             self._cache = frames
         self.frames = 0 if self._cache is None else len(self._cache)
+        self._turn: tuple[str, str] | None = None
+
+    def turn(self, frm: str, to: str) -> None:
+        """From now on every pose (and `rest`) comes turned from `frm` up to `to` up (`turn_up`)."""
+        base = self.rest if self._turn is None else turn_up(self.rest, self._turn[1], self._turn[0])
+        turn_up(base[:0], frm, to)  # checks the axes before anything changes
+        self._turn = None if frm == to else (frm, to)
+        self.rest = turn_up(base, frm, to)
 
     @property
     def kind(self) -> str:
@@ -98,8 +126,11 @@ class ColliderMotion:
         if self._skin is not None:
             if self.loop:
                 t = t % self.duration if self.duration > 0 else 0.0
-            return self._skin.positions_at(t, self._clip)
+            return self._turned(self._skin.positions_at(t, self._clip))
         return self.at(int(round(t * self.fps)))
+
+    def _turned(self, points: np.ndarray) -> np.ndarray:
+        return points if self._turn is None else turn_up(points, *self._turn)
 
     def at(self, frame: int) -> np.ndarray:
         """The vertices at simulation frame `frame` (0 is the motion's start), (n, 3) float32."""
@@ -107,7 +138,7 @@ class ColliderMotion:
             raise InvalidParameterError(f"collider {self.path}: frame {frame} is before the motion's start (0)")
         if self._cache is not None:
             k = frame % len(self._cache) if self.loop else min(frame, len(self._cache) - 1)
-            return self._cache[k]
+            return self._turned(self._cache[k])
         if self._skin is not None:
             return self.pose(frame / self.fps)
         return self.rest

@@ -8,7 +8,10 @@ MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or th
 ``--animation`` names); CACHE is a PC2 file of the collider's vertex positions per frame (both
 read by ``tailor.motion.ColliderMotion``).
 Gravity points down the up axis: Y for OBJ and glTF files by their convention, Z for PLY,
-unless ``--up`` says. The garment assembles (its seams close under the damping ramp) and
+unless ``--up`` says. A garment file that states its up axis (``setup["up"]``: the add-on's
+exports say Z, Blender's) and a collider with the other one agree by turning the collider into
+the garment's coordinates (``tailor.motion.turn_up``, as Blender's glTF importer does); gravity
+and every output (caches, USD's up axis) are then in the garment's. The garment assembles (its seams close under the damping ramp) and
 follows the collider. The report holds one record per frame
 and a summary of the same fields (worst case over the frames, mean frame time).
 
@@ -104,9 +107,10 @@ def run(args):
     if args.usd and Path(args.usd).suffix.lower() not in (".usd", ".usda", ".usdc"):
         raise tailor.InvalidParameterError(f"--usd {args.usd}: a USD file ends in .usd, .usda or .usdc")
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
-    gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
     warnings = []
     garment = tailor.Garment.load(args.garment)
+    collider_up, up = up, garment.setup.get("up") or up
+    gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
     if args.edge is not None:  # --edge 0 is an error (set_resolution names it), not "keep"
         for i in range(len(garment.pieces)):
             garment.set_resolution(i, args.edge)
@@ -120,6 +124,10 @@ def run(args):
     if args.resume and not args.output:
         raise tailor.InvalidParameterError("--resume needs -o CACHE.pc2: the frames it goes on from")
     motion = ColliderMotion(args.collider, args.collider_anim, animation=args.animation, fps=args.fps)
+    if collider_up != up:
+        motion.turn(collider_up, up)
+        print(f"simulate: the collider is {collider_up.upper()} up and the garment {up.upper()} up: the collider is "
+              f"turned into the garment's coordinates", flush=True)
     d = dressing.dress(garment, motion.at(0), motion.triangles, settings=settings, backend=args.backend,
                        thickness=args.thickness, self_collision=args.self_collision, collider_friction=None,
                        strict=False)
@@ -164,7 +172,8 @@ def run(args):
     def report(complete: bool) -> dict:
         summary = bake.summarize(frames)
         doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
-               "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached), "complete": complete}
+               "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached), "up": up,
+               "collider_up": collider_up, "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)
         tmp = args.report + ".tmp"
         with open(tmp, "w") as fh:

@@ -85,6 +85,16 @@ pub enum PinMode {
     Fixed,
 }
 
+/// The axis pointing up in the coordinates a garment is placed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UpAxis {
+    /// glTF's, GarmentCode's, Maya's and Houdini's convention.
+    Y,
+    /// Blender's (the add-on's exports).
+    Z,
+}
+
 /// Static and kinetic friction coefficients.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -167,6 +177,9 @@ pub struct GarmentSetup {
     pub seam_bend_stiffness: f32,
     /// Collision levels of the (first) collider, when painted.
     pub collider_levels: Option<ColliderLevels>,
+    /// The up axis of the coordinates the pieces are placed in (None: not stated). A collider
+    /// with another up axis is turned into the garment's (`tailor simulate`).
+    pub up: Option<UpAxis>,
 }
 
 impl Default for GarmentSetup {
@@ -183,6 +196,7 @@ impl Default for GarmentSetup {
             seam_stiffness: DEFAULT_SEAM_STIFFNESS,
             seam_bend_stiffness: DEFAULT_SEAM_BEND_STIFFNESS,
             collider_levels: None,
+            up: None,
         }
     }
 }

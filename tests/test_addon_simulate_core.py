@@ -269,6 +269,29 @@ def test_live_solver_solves_on_native_threads_and_applies_edits():
     assert [r["frame"] for r in run.records] == list(range(1, kept + 1))
 
 
+def test_a_stop_with_no_time_leaves_the_frame_to_its_thread_quietly(monkeypatch):
+    """Stopped with no time to finish a frame in progress (its assembly under held gravity),
+    the frame is left to its native thread and its loop is closed there and then: its clean-up
+    (gravity put back) meets the busy simulation, which is not reported later as an
+    "Exception ignored" when the loop is collected."""
+    import gc
+
+    g = two_pieces()
+    v, t = box()
+    fabrics = [core_sim.PieceFabric(0.15, 600.0, 60.0, 2e-5)] * 2
+    built = core_sim.build(g, core_sim.SimSettings(), fabrics, [{}, {}], [core_sim.ColliderData("box", v, t)])
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+    solver = LiveSolver(bake.Bake(built.sim, built.colliders, 30.0, 1, preroll=200, assembly_gravity=(0.0, 0.0, 0.0)))
+    assert solver.submit(1, [v]) and solver.busy
+    solver.stop(timeout=0.0)
+    assert not solver.busy
+    gc.collect()
+    assert unraisable == []
+    with pytest.raises(RuntimeError, match="stopped"):
+        solver.submit(2, [v])
+
+
 def test_one_seam_stiffness_default_on_every_path():
     """The module's seams, the garment builder's and the add-on's settings share one default
     (a closed seam's gap is the cloth's tension over it: 1e3 N/m left mm gaps on the shirt)."""

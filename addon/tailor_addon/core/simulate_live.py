@@ -113,7 +113,13 @@ class LiveSolver:
         self._run_until(timeout)
         if self._pending is not None:
             self._pending = None
-            self._solves = None
+            solves, self._solves = self._solves, None
+            try:
+                # Its clean-ups (the assembly's gravity put back) find the simulation busy on
+                # the native thread: said here, not as "Exception ignored" when it is collected.
+                solves.close()
+            except Exception:
+                pass
 
     # ---- the frame's loop ---------------------------------------------------------------------
 

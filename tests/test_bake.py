@@ -300,25 +300,15 @@ def test_records_say_which_backend_solved_each_frame(tube):
     assert run.summary()["backends"] == {"cpu": 3}
 
 
-def drive_async(solves, sim) -> dict:
-    """`Bake.solves` run as the add-on's Live runs it: each request on a native thread
-    (`start_async`), collected once `done` (polled, never waited on here)."""
-    try:
-        request = next(solves)
-        while True:
-            pending = bake.start_async(sim, request)
-            with pytest.raises(tailor.SimulationError, match="in use"):
-                sim.positions  # busy while the native thread has the solver
-            while not pending.done():
-                pass
-            try:
-                result = pending.finish()
-            except Exception as exc:
-                request = solves.throw(exc)
-            else:
-                request = solves.send(result)
-    except StopIteration as stop:
-        return stop.value
+def run_polled(sim, request) -> dict:
+    """A request computed as the add-on's Live computes it: on a native thread (`start_async`),
+    collected once `done` (polled, never waited on)."""
+    pending = bake.start_async(sim, request)
+    with pytest.raises(tailor.SimulationError, match="in use"):
+        sim.positions  # busy while the native thread has the solver
+    while not pending.done():
+        pass
+    return pending.finish()
 
 
 def test_a_bake_driven_on_native_threads_solves_the_same_frames(tube):
@@ -342,7 +332,7 @@ def test_a_bake_driven_on_native_threads_solves_the_same_frames(tube):
     there, _ = new_run()
     for frame in range(1, 8):
         a = here.step([v])
-        b = drive_async(there.solves([v]), there.sim)
+        b = bake.drive(there.solves([v]), there.sim, run_polled)
         assert b is there.records[-1] and b["ms"] > 0.0
         assert {k: x for k, x in a.items() if k != "ms"} == {k: x for k, x in b.items() if k != "ms"}
         np.testing.assert_array_equal(here.frames[-1], there.frames[-1])

@@ -26,6 +26,7 @@ from __future__ import annotations
 import time
 from collections import deque
 from dataclasses import dataclass
+from functools import partial
 from typing import Callable, Sequence
 
 import numpy as np
@@ -81,7 +82,7 @@ class LiveSolver:
         except Exception as exc:  # handed over by the next poll, which reports it and stops
             self._fail(exc)
             return True
-        self._advance(lambda: next(self._solves))
+        self._advance(partial(next, self._solves))
         return True
 
     def poll(self) -> LiveResult | None:
@@ -137,9 +138,9 @@ class LiveSolver:
         try:
             result = pending.finish()
         except Exception as exc:
-            self._advance(lambda: self._solves.throw(exc))
+            self._advance(partial(self._solves.throw, exc))
         else:
-            self._advance(lambda: self._solves.send(result))
+            self._advance(partial(self._solves.send, result))
 
     def _advance(self, resume: Callable[[], object]) -> None:
         """Runs the frame's loop to its next request, started on a native thread, or its end."""

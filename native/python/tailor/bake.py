@@ -292,14 +292,16 @@ def start_async(sim: Simulation, request: Solve | Measure):
     return sim.metrics_async(request.collider)
 
 
-def drive(solves: Solves, sim: Simulation) -> dict:
-    """Runs a `Bake.solves` generator to its end on this thread; returns its value. An error
-    of a request is raised inside the generator (its clean-ups run) and out of here."""
+def drive(solves: Solves, sim: Simulation,
+          run: Callable[[Simulation, Solve | Measure], dict] = run_here) -> dict:
+    """Runs a `Bake.solves` generator to its end, each request computed by `run` (on this
+    thread: `run_here`); returns its value. An error of a request is raised inside the
+    generator (its clean-ups run) and out of here."""
     try:
         request = next(solves)
         while True:
             try:
-                result = run_here(sim, request)
+                result = run(sim, request)
             except Exception as exc:
                 request = solves.throw(exc)
             else:

@@ -21,7 +21,8 @@ use crate::settings::{parse_method, Fabric, Settings};
 #[pyclass(module = "tailor")]
 pub struct Simulation {
     /// `None` while a call that releases the GIL (`step`, `measure_step`, `metrics`,
-    /// `attach_to_collider`) has it: another thread's call then gets a `SimulationError`
+    /// `attach_to_collider`) or an unfinished `step_async` / `metrics_async` (`background.rs`)
+    /// has it: another call then gets a `SimulationError`
     /// saying so, where it got pyo3's `RuntimeError: Already borrowed` (see [`Self::detached`]).
     inner: Option<Solver>,
 }
@@ -29,7 +30,8 @@ pub struct Simulation {
 fn busy() -> PyErr {
     to_py(tailor_core::TailorError::Busy {
         what: "this Simulation is in use by a call in another thread (step, measure_step, metrics or \
-               attach_to_collider); wait for it to return"
+               attach_to_collider) or by an unfinished step_async / metrics_async; wait for it to \
+               return, or finish it"
             .into(),
     })
 }

@@ -144,17 +144,6 @@ impl Solver {
             return Ok(st);
         }
         #[cfg(feature = "gpu")]
-        if self.gpu.is_some() && (self.sim.seams_closing() || self.sim.ramp_closing()) {
-            // Closing seams change their rest lengths every substep, gravity is held while
-            // they close and the ramp's release is measured on the CPU (`damping`); those
-            // frames run on the CPU and the GPU takes over (re-uploaded by `edit`) from the
-            // release on.
-            let mut st = self.edit(|sim| sim.step(dt))?;
-            st.warning =
-                Some(self.frame_on_cpu("the seams are closing (their rest lengths and gravity change every substep)"));
-            return Ok(st);
-        }
-        #[cfg(feature = "gpu")]
         if let Some(g) = &mut self.gpu {
             use crate::gpu::GpuFailure;
             match g.step(&mut self.sim, dt) {
@@ -164,8 +153,8 @@ impl Solver {
                 }
                 Err(GpuFailure::Step(e)) => return Err(e),
                 Err(GpuFailure::Unsupported(why)) => {
-                    // This frame only: the scene holds something the GPU does not run yet (a
-                    // pin riding on the collider, an early stop). The CPU's state is current
+                    // This frame only: the scene holds something the GPU does not run (the
+                    // Jacobi method, more mesh colliders than it binds). The CPU's state is current
                     // (the GPU refuses before the frame's work, or hands the begun frame over),
                     // and the GPU, marked stale, tries again next frame from it.
                     let mut st = self.sim.step(dt)?;

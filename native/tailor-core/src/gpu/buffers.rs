@@ -37,6 +37,8 @@ pub struct Buffers {
     /// Collider attachments (`attach.wgsl`) and their count.
     pub attachments: wgpu::Buffer,
     pub attach_info: wgpu::Buffer,
+    /// Seam pairs' closing state (`close_seams.wgsl`), one vec4 per pair.
+    pub closing: wgpu::Buffer,
     pub(super) x_backup: wgpu::Buffer,
     pub(super) v_backup: wgpu::Buffer,
     pub(super) state_backup: wgpu::Buffer,
@@ -59,6 +61,7 @@ pub(super) struct Capacities {
     pub(super) mesh_entries: usize,
     pub(super) self_buckets: usize,
     pub(super) attachments: usize,
+    pub(super) seam_pairs: usize,
 }
 
 impl Capacities {
@@ -75,6 +78,7 @@ impl Capacities {
             && need.mesh_entries <= self.mesh_entries
             && need.self_buckets <= self.self_buckets
             && need.attachments <= self.attachments
+            && need.seam_pairs <= self.seam_pairs
     }
 }
 
@@ -127,10 +131,12 @@ impl Buffers {
                 storage,
             ),
             attach_info: mk("attach_info", std::mem::size_of::<attach::AttachInfo>() as u64, U::UNIFORM | U::COPY_DST),
+            closing: mk("closing", caps.seam_pairs as u64 * VEC4, storage),
             x_backup: mk("x_backup", n * VEC4, storage),
             v_backup: mk("v_backup", n * VEC4, storage),
             state_backup: mk("state_backup", STATE_BYTES, storage),
-            readback: mk("readback", n * VEC4 + STATE_BYTES, U::MAP_READ | U::COPY_DST),
+            // Positions, the state, then the seam pairs' closing state.
+            readback: mk("readback", n * VEC4 + STATE_BYTES + caps.seam_pairs as u64 * VEC4, U::MAP_READ | U::COPY_DST),
             caps,
         }
     }

@@ -10,7 +10,7 @@ pub const PHASE_CLOSING: u32 = 0;
 pub const PHASE_RELEASING: u32 = 1;
 pub const PHASE_DONE: u32 = 2;
 
-/// Mirror of WGSL `Params` (uniform; 224 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
+/// Mirror of WGSL `Params` (uniform; 240 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
 /// 12 bytes) followed by `h`, so no padding is needed there; the size is a multiple of 16.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -70,9 +70,14 @@ pub struct Params {
     pub excl_nbr: u32,
     /// Iterations per substep: the last one is a plain sweep (`Chebyshev::omega`).
     pub iterations: u32,
+    pub release_gap: f32,
+    pub closing_gravity: f32,
+    pub closing_speed: f32,
+    /// Pairs were on their closing schedule at upload: `close_seams` runs every substep.
+    pub closing_scheduled: u32,
 }
 
-/// Mirror of WGSL `StepState` (storage; 64 bytes, explicit tail padding).
+/// Mirror of WGSL `StepState` (storage; 96 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
 pub struct StepState {
@@ -105,6 +110,12 @@ pub struct StepState {
     pub iterations_run: u32,
     /// The fastest particle's speed after the frame's last substep (f32 bits; atomic in WGSL).
     pub max_speed_bits: u32,
+    /// Some seam pair still has closing schedule left.
+    pub closing: u32,
+    /// The ramp's stall watch: on, the smallest widest gap so far (m), seconds since it shrank.
+    pub stall_on: u32,
+    pub stall_best: f32,
+    pub stall_since: f32,
 }
 
 /// Mirror of WGSL `Particle` (32 bytes): each `vec3<f32>` is followed by a 4-byte scalar,

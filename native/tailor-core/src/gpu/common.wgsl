@@ -65,6 +65,13 @@ struct Params {
     excl_off: u32,
     excl_nbr: u32,
     iterations: u32,
+    // The seam-closing ramp (`SeamRamp`): the widest gap that releases it, the factor on
+    // gravity while seams close, the widest pair's closing speed (m/s), and whether pairs
+    // were still on their closing schedule at upload (`close_seams.wgsl` runs then).
+    release_gap: f32,
+    closing_gravity: f32,
+    closing_speed: f32,
+    closing_scheduled: u32,
 }
 
 // Per-substep iteration state and the seam-closing ramp, owned by the GPU.
@@ -97,6 +104,13 @@ struct StepState {
     // The fastest particle's speed after the frame's last substep, as f32 bits (positive
     // floats order as their bits): the CPU's sleep test (`sleep.rs`). Cleared per frame.
     max_speed_bits: atomic<u32>,
+    // Some seam pair still has closing schedule left (`Simulation::seams_closing`).
+    closing: u32,
+    // The ramp's stall watch (`Ramp::stalled`): on, the smallest widest gap so far, and the
+    // seconds since it last shrank.
+    stall_on: u32,
+    stall_best: f32,
+    stall_since: f32,
 }
 
 const PHASE_CLOSING: u32 = 0u;
@@ -192,6 +206,20 @@ fn collider_distance(c: Collider, p: vec3<f32>) -> vec4<f32> {
 @group(0) @binding(1) var<storage, read_write> state: StepState;
 
 // Air damping in effect for a ramp phase, 1/s (port of `damping::Ramp::damping`).
+// Whether the ramp holds the seams' closing now (`Simulation::ramp_closing`).
+fn ramp_closing() -> bool {
+    return params.ramp_enabled != 0u && params.has_seams != 0u && state.phase == PHASE_CLOSING;
+}
+
+// Gravity in effect now (`Ramp::gravity_scale`): `closing_gravity` times it while seams close.
+fn gravity_now() -> vec3<f32> {
+    var scale = 1.0;
+    if (ramp_closing()) {
+        scale = params.closing_gravity;
+    }
+    return params.gravity * scale;
+}
+
 fn ramp_damping(phase: u32, elapsed: f32) -> f32 {
     if (params.ramp_enabled == 0u) {
         return params.air_damping;

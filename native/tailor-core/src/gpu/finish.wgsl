@@ -52,7 +52,8 @@ fn finish_particle(i: u32) -> f32 {
     // The last iteration's contact force as a displacement (`contact_pushes`), before the
     // remaining penetrations are pushed out.
     var push = 0.0;
-    if (ct.weight > 0.0 && is_analytic(ct.collider) && (particles[i].flags & PARTICLE_SEWN) == 0u) {
+    // Zero while seams close (their pull is an assembly force: what it presses on slides).
+    if (!ramp_closing() && ct.weight > 0.0 && is_analytic(ct.collider) && (particles[i].flags & PARTICLE_SEWN) == 0u) {
         push = ct.weight * max(dot(ct.target_pos - p, ct.normal), 0.0) * params.h * params.h / particles[i].mass;
     }
     if (params.n_colliders > 0u && (particles[i].flags & PARTICLE_PINNED) == 0u) {
@@ -74,7 +75,7 @@ fn finish_particle(i: u32) -> f32 {
     // Mesh contacts had their friction in `resolve_mesh.wgsl`.
     if (is_analytic(ct.collider)) {
         // The prediction y as `predict` computed it (contacts never involve pinned particles).
-        let y = xs + v[i].xyz * params.h + params.gravity * (params.h * params.h);
+        let y = xs + v[i].xyz * params.h + gravity_now() * (params.h * params.h);
         let v_pred = (y - xs) * params.inv_h;
         let dvn = max(max(dot(vel - v_pred, ct.normal), push * params.inv_h), 0.0);
         let col = colliders[ct.collider];

@@ -176,3 +176,97 @@ fn deepest_mesh_contact(p: vec3<f32>, level: i32) -> DeepestHit {
     }
     return best;
 }
+
+// Cells a crossing test walks at most (`mesh_collider::MAX_CROSSING_CELLS`).
+const MAX_CROSSING_CELLS: u32 = 1024u;
+
+// Mesh collider `c` crossed front to back by the motion from `x0` to `x1` (port of
+// `MeshCollider::crossing`): the first triangle the segment passes through, found by walking
+// the cells it passes through (`hash::segment_cells`, each cell's candidates as in
+// `mesh_contact`); the target is `x1` moved back along that triangle's normal to `thickness`
+// in front of its plane. No hit when it crosses none within MAX_CROSSING_CELLS cells.
+fn mesh_crossing(c: u32, x0: vec3<f32>, x1: vec3<f32>, level: i32, thickness: f32) -> MeshHit {
+    let mi = meshes.m[c];
+    let l = mi.cell;
+    let d = x1 - x0;
+    var cell = cell_of(x0, l);
+    let end = cell_of(x1, l);
+    // Per axis: the step, the segment parameter of the next cell face, and between faces.
+    var step = vec3<i32>(0);
+    var next = vec3<f32>(F32_MAX);
+    var delta = vec3<f32>(F32_MAX);
+    for (var k = 0; k < 3; k++) {
+        if (cell[k] != end[k] && d[k] != 0.0) {
+            step[k] = select(-1, 1, d[k] > 0.0);
+            let face = f32(cell[k] + select(0, 1, d[k] > 0.0)) * l;
+            next[k] = max((face - x0[k]) / d[k], 0.0);
+            delta[k] = l / abs(d[k]);
+        }
+    }
+    let nt_base = 4u * params.n_mesh_verts;
+    var best = no_hit();
+    var best_s = 0.0;
+    for (var walked = 0u; walked < MAX_CROSSING_CELLS; walked++) {
+        let b = mi.bucket_off + bucket_of(cell, mi.mask);
+        let e0 = mtable[b];
+        let e1 = mtable[b + 1u];
+        for (var e = e0; e < e1; e++) {
+            let t = candidate_triangle(e, cell, mi, level);
+            if (t == 0xffffffffu) {
+                continue;
+            }
+            let gt = mi.tri_off + t;
+            let n = mverts[nt_base + gt].xyz;
+            let a = mesh_cur(mesh_vertex_index(gt, 0u));
+            let side_from = dot(x0 - a, n);
+            let side_to = dot(x1 - a, n);
+            if (!(side_from >= 0.0 && side_to < 0.0)) {
+                continue;
+            }
+            let s = side_from / (side_from - side_to);
+            if (best.found != 0u && s >= best_s) {
+                continue;
+            }
+            let q = x0 + d * s;
+            let cl = closest_point_on_triangle(q, a, mesh_cur(mesh_vertex_index(gt, 1u)), mesh_cur(mesh_vertex_index(gt, 2u)));
+            // The crossing point lies on the triangle (to rounding), not only on its plane.
+            let dq = cl.q - q;
+            if (dot(dq, dq) > (1e-4 * l) * (1e-4 * l)) {
+                continue;
+            }
+            let depth = thickness - side_to;
+            best = MeshHit(1u, depth, t, x1 + n * depth, n, cl.bary);
+            best_s = s;
+        }
+        if (all(cell == end)) {
+            break;
+        }
+        // The axis whose face comes first; an axis already at its end cell never steps.
+        var k = -1;
+        var kn = 0.0;
+        for (var a = 0; a < 3; a++) {
+            if (cell[a] != end[a] && (k < 0 || next[a] < kn)) {
+                k = a;
+                kn = next[a];
+            }
+        }
+        if (k < 0) {
+            break;
+        }
+        cell[k] += step[k];
+        next[k] += delta[k];
+    }
+    return best;
+}
+
+// The deepest crossing over all mesh colliders (`find_mesh_contacts` with crossings).
+fn deepest_mesh_crossing(x0: vec3<f32>, x1: vec3<f32>, level: i32) -> DeepestHit {
+    var best = DeepestHit(no_hit(), 0u);
+    for (var c = 0u; c < params.n_meshes; c++) {
+        let h = mesh_crossing(c, x0, x1, level, params.thickness);
+        if (h.found != 0u && (best.hit.found == 0u || h.depth > best.hit.depth)) {
+            best = DeepestHit(h, c);
+        }
+    }
+    return best;
+}

@@ -1,7 +1,7 @@
 //! The per-frame solve on the GPU (feature `gpu`): wgpu compute shaders in WGSL running the
 //! same substeps as [`Simulation::step`](crate::solver::Simulation::step).
 //!
-//! Each stage is one WGSL file with its host side beside it (`predict`, `mesh_hash`, `hash`,
+//! Each stage is one WGSL file with its host side beside it (`close_seams`, `predict`, `mesh_hash`, `hash`,
 //! `contacts`, `project_triangles`, `project_stencils`, `gauss_seidel`, `chebyshev`,
 //! `self_collide`, `resolve_mesh`, `finish`, `ramp`; `common` and `collide_common` hold the
 //! shared structs, `mesh_query` the mesh-collider query). Every WGSL
@@ -15,8 +15,9 @@
 //! ([`Simulation::gpu_view`](crate::solver::Simulation::gpu_view): colouring, diagonal, the
 //! measured Chebyshev ρ), uploads it once (again only after an edit, reusing the buffers when
 //! they are large enough), then each frame records every substep's dispatches into one
-//! command buffer, submits it, and reads back positions plus a 64-byte state (residual, seam
-//! gap, ramp phase) once. Velocities are read back only on request.
+//! command buffer, submits it, and reads back positions plus a 96-byte state (residual, seam
+//! gap, ramp phase) once, with the seam pairs' closing schedule while it runs. Velocities are
+//! read back only on request.
 //!
 //! **Same physics.** Prediction with pins; stretch and shear projections (ported line for line
 //! from `constraints/triangle.rs`) and curved (creased-rest) bending and seam-hinge stencils;
@@ -27,7 +28,10 @@
 //! the CPU are f32 rounding, e.g. fused multiply-adds); Chebyshev with the CPU's measured ρ and
 //! its growth restart, driven by an on-GPU reduction of the update norm; self-collision after
 //! each iteration; velocities and air damping with the seam-closing ramp advanced on the GPU
-//! from an on-GPU seam-gap reduction.
+//! from an on-GPU seam-gap reduction. Seams close there too: the closing schedule shrinks each
+//! pair's rest length every substep (`close_seams`), gravity is held while the ramp closes,
+//! and the body's holds of the closing phase are placed and released by the host around the
+//! frame in which they come or go, as the CPU step does at its start and end.
 //!
 //! **Collisions** (`collide_common`, `mesh_hash`, `hash`, `mesh_query`, `contacts`,
 //! `resolve_mesh`, `self_collide`). The spatial hash of Eq. 1-3 is built on the GPU by a
@@ -48,8 +52,8 @@
 //! the character) move their targets with the collider every substep (`attach.wgsl`).
 //!
 //! **Not yet on the GPU** (a [`Solver`](crate::engine::Solver) asked for the GPU runs such a
-//! frame on the CPU, that frame only, with the reason in its stats): the Jacobi method, frames
-//! whose seams are closing, and more than [`collide_common::MAX_MESHES`] mesh colliders. The
+//! frame on the CPU, that frame only, with the reason in its stats): the Jacobi method and more
+//! than [`collide_common::MAX_MESHES`] mesh colliders. The
 //! early stop on `tolerance` runs on the GPU: `reduce_omega` sets a flag that every iteration
 //! stage, self-collision's passes included, reads first (no readback).
 //! Flat bending and seams are linear, so they are fully in the matrix and need no GPU kernel.
@@ -57,6 +61,7 @@
 pub mod attach;
 mod buffers;
 pub mod chebyshev;
+pub mod close_seams;
 pub mod collide_common;
 pub mod common;
 pub mod contacts;
@@ -81,6 +86,8 @@ use bytemuck::Zeroable;
 
 use crate::error::TailorError;
 use crate::solver::model::settings::Method;
+use crate::solver::model::SEAM_PAIRS_SET;
+use crate::solver::simulation::view::{BackendState, SeamClosing};
 use crate::solver::stages::damping::{Ramp, RampPhase};
 use crate::solver::{ActiveBackend, Simulation, SolverView, StepStats};
 
@@ -149,6 +156,10 @@ struct Uploaded {
     n_attach: usize,
     /// The early stop is on (`tolerance` > 0): each iteration starts with `gate`.
     early_stop: bool,
+    /// Seam pairs were on their closing schedule at upload: each substep starts with
+    /// `close_seams`, and each frame reads their state back.
+    closing_scheduled: bool,
+    n_seam_pairs: usize,
     colours: Vec<ColourRange>,
     h: f32,
     rho: f32,
@@ -369,6 +380,19 @@ impl GpuSolver {
             c_off.push(c_verts.len() as u32);
             c_wr.extend_from_slice(&[set.weights[st], set.rest[st]]);
         }
+        // Each seam pair's closing state; its rest length lives in its curved stencil, if any.
+        let mut pair_state: Vec<close_seams::PairState> = (0..sp.len())
+            .map(|s| {
+                let left = view.closing_left.get(s).copied().unwrap_or(0.0);
+                let gap0 = view.closing_gap0.get(s).copied().unwrap_or(0.0);
+                [gap0, left, f32::from_bits(close_seams::NOT_CURVED), sp.rest[s]]
+            })
+            .collect();
+        for (c, &(set_id, st)) in lay.curved.iter().enumerate() {
+            if set_id == SEAM_PAIRS_SET {
+                pair_state[st as usize][2] = f32::from_bits(c as u32);
+            }
+        }
         p.curved_off = base(&mut idx, &c_off);
         p.curved_verts = base(&mut idx, &c_verts);
 
@@ -523,6 +547,11 @@ impl GpuSolver {
         p.has_seams = (!sp.is_empty()) as u32;
         p.substeps = s.substeps;
         p.iterations = s.iterations;
+        p.release_gap = s.ramp.release_gap;
+        p.closing_gravity = s.ramp.closing_gravity;
+        p.closing_speed = s.ramp.closing_speed;
+        let closing_scheduled = view.seams_closing && !sp.is_empty();
+        p.closing_scheduled = closing_scheduled as u32;
 
         let need = Capacities {
             n,
@@ -537,6 +566,7 @@ impl GpuSolver {
             mesh_entries,
             self_buckets,
             attachments: attachments.len(),
+            seam_pairs: sp.len(),
         };
         let stride = self.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
         let realloc = self.buffers.as_ref().is_none_or(|b| !b.caps.fits(&need));
@@ -558,17 +588,22 @@ impl GpuSolver {
                 flags: if m.pinned[i] { PARTICLE_PINNED } else { 0 } | if sewn[i] { PARTICLE_SEWN } else { 0 },
             })
             .collect();
-        let (phase, elapsed) = phase_to_gpu(view.ramp_phase);
-        // The early stop's floor, as `Simulation::prepare` computes it (gravity is not held on
-        // the GPU: frames whose seams close run on the CPU).
+        let (phase, elapsed) = phase_to_gpu(view.ramp.phase);
+        // The early stop's floor, as `Simulation::prepare` computes it (from the full gravity,
+        // also while the ramp holds it).
         let g2 = view.settings.gravity.iter().map(|&g| (g as f64).powi(2)).sum::<f64>();
         let weight_norm = (0..n).filter(|&i| !m.pinned[i]).map(|i| (m.mass[i] as f64).powi(2) * g2).sum::<f64>().sqrt();
+        let (stall_on, (stall_best, stall_since)) = (view.ramp.stall.is_some(), view.ramp.stall.unwrap_or_default());
         let state = StepState {
             omega: 1.0,
             phase,
             elapsed,
             tolerance: view.settings.tolerance,
             weight_norm: weight_norm as f32,
+            closing: view.seams_closing as u32,
+            stall_on: stall_on as u32,
+            stall_best,
+            stall_since,
             ..StepState::zeroed()
         };
         q.write_buffer(&b.params, 0, bytemuck::bytes_of(&p));
@@ -618,6 +653,9 @@ impl GpuSolver {
         if !attachments.is_empty() {
             q.write_buffer(&b.attachments, 0, bytemuck::cast_slice(&attachments));
         }
+        if !pair_state.is_empty() {
+            q.write_buffer(&b.closing, 0, bytemuck::cast_slice(&pair_state));
+        }
         if self_enabled {
             q.write_buffer(&b.scounts, 0, bytemuck::cast_slice(&vec![0u32; self_buckets]));
         }
@@ -649,6 +687,8 @@ impl GpuSolver {
             self_buckets,
             n_attach: attachments.len(),
             early_stop: s.tolerance > 0.0,
+            closing_scheduled,
+            n_seam_pairs: sp.len(),
             colours,
             h,
             rho: view.rho,
@@ -670,6 +710,10 @@ impl GpuSolver {
         let substeps = sim.settings().substeps;
         let iterations = sim.settings().iterations;
         let h = dt / substeps as f32;
+        // The body's holds of the closing phase come or go (an edit of the model, as on the
+        // CPU at the start of its step): the GPU's velocities come down first, then the
+        // model goes up again.
+        self.update_closing_holds(sim)?;
         let stale = self.uploaded.as_ref().is_none_or(|u| u.h != h || u.method != sim.settings().method);
         let mut upload = self.dirty || stale;
         if upload {
@@ -759,13 +803,21 @@ impl GpuSolver {
         }
         enc.copy_buffer_to_buffer(&b.x, 0, &b.readback, 0, xbytes);
         enc.copy_buffer_to_buffer(&b.state, 0, &b.readback, xbytes, STATE_BYTES);
+        // While seams close, their schedule comes back too (the CPU takes over from it).
+        let pair_bytes = if u.closing_scheduled { u.n_seam_pairs as u64 * VEC4 } else { 0 };
+        if pair_bytes > 0 {
+            enc.copy_buffer_to_buffer(&b.closing, 0, &b.readback, xbytes + STATE_BYTES, pair_bytes);
+        }
         let (n_colours, rho, n_tris_total) = (u.colours.len(), u.rho, u.n_mesh_tris);
         let has_meshes = u.n_meshes > 0;
         self.queue.submit([enc.finish()]);
-        let bytes = self.read(xbytes + STATE_BYTES)?;
-        let (xs, st) = bytes.split_at(xbytes as usize);
+        let bytes = self.read(xbytes + STATE_BYTES + pair_bytes)?;
+        let (xs, rest) = bytes.split_at(xbytes as usize);
+        let (st, pairs) = rest.split_at(STATE_BYTES as usize);
         let x: &[[f32; 4]] = bytemuck::cast_slice(xs);
         let state: StepState = *bytemuck::from_bytes(st);
+        let pairs: Vec<(f32, f32)> =
+            bytemuck::cast_slice::<u8, close_seams::PairState>(pairs).iter().map(|p| (p[1], p[3])).collect();
         if has_meshes {
             self.mesh_hash_valid = true;
         }
@@ -780,12 +832,20 @@ impl GpuSolver {
             }));
         }
         let phase = phase_from_gpu(state.phase, state.elapsed);
-        sim.accept_backend_state(Some(x), phase, h as f64 * substeps as f64);
+        let stall = (state.stall_on != 0).then_some((state.stall_best, state.stall_since));
+        sim.accept_backend_state(BackendState {
+            x: Some(x),
+            ramp: Ramp { phase, stall },
+            elapsed: h as f64 * substeps as f64,
+            seams: (pair_bytes > 0).then_some(SeamClosing { closing: state.closing != 0, pairs: &pairs }),
+        });
         if sim.backend_after_step(f32::from_bits(state.max_speed_bits)) {
             // Fallen asleep: the CPU zeroed the velocities; the GPU takes them from there when
             // the cloth wakes.
             self.dirty = true;
         }
+        // As the CPU at the end of its step: the holds go once the seams have met.
+        self.update_closing_holds(sim)?;
         let mut stats = StepStats {
             substeps,
             iterations: state.iterations_run,
@@ -814,6 +874,19 @@ impl GpuSolver {
         // upload and readback included, is reported as the global step.
         stats.timings[crate::solver::Stage::Global] = t0.elapsed().as_secs_f64();
         Ok(stats)
+    }
+
+    /// Places or releases the body's holds of the closing phase when due
+    /// (`Simulation::update_closing_holds`): the velocities come down first (the GPU's are the
+    /// current ones) and the edited model goes up before the next frame.
+    fn update_closing_holds(&mut self, sim: &mut Simulation) -> Result<(), GpuFailure> {
+        if !sim.closing_holds_due() {
+            return Ok(());
+        }
+        self.sync_velocities(sim)?;
+        sim.update_closing_holds().map_err(GpuFailure::Step)?;
+        self.dirty = true;
+        Ok(())
     }
 
     /// Copies the backups of x, v and the state back (after a diverged frame).

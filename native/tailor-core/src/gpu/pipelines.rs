@@ -4,8 +4,8 @@
 
 use super::buffers::Buffers;
 use super::{
-    attach, chebyshev, contacts, finish, gauss_seidel, hash, mesh_hash, predict, project_stencils, project_triangles,
-    ramp, resolve_mesh, self_collide,
+    attach, chebyshev, close_seams, contacts, finish, gauss_seidel, hash, mesh_hash, predict, project_stencils,
+    project_triangles, ramp, resolve_mesh, self_collide,
 };
 
 pub(super) struct Pipelines {
@@ -30,6 +30,7 @@ pub(super) struct Pipelines {
     pub(super) self_apply: wgpu::ComputePipeline,
     pub(super) attach: wgpu::ComputePipeline,
     pub(super) gate: wgpu::ComputePipeline,
+    pub(super) close_seams: wgpu::ComputePipeline,
 }
 
 pub(super) struct BindGroups {
@@ -56,6 +57,7 @@ pub(super) struct BindGroups {
     pub(super) self_apply: wgpu::BindGroup,
     pub(super) attach: wgpu::BindGroup,
     pub(super) gate: wgpu::BindGroup,
+    pub(super) close_seams: wgpu::BindGroup,
 }
 
 impl Pipelines {
@@ -74,6 +76,7 @@ impl Pipelines {
             mesh_lerp: compile(device, "mesh_lerp", mesh_hash::SOURCE, mesh_hash::LERP_ENTRY),
             attach: compile(device, "attach", attach::SOURCE, attach::ENTRY),
             gate: compile(device, "gate", chebyshev::SOURCE, chebyshev::GATE_ENTRY),
+            close_seams: compile(device, "close_seams", close_seams::SOURCE, close_seams::ENTRY),
             mesh_count: compile(device, "mesh_count", mesh_hash::SOURCE, mesh_hash::COUNT_ENTRY),
             mesh_scatter: compile(device, "mesh_scatter", mesh_hash::SOURCE, mesh_hash::SCATTER_ENTRY),
             hash_scan: compile(device, "hash_scan", hash::SOURCE, hash::SCAN_ENTRY),
@@ -137,6 +140,7 @@ impl BindGroups {
             self_apply: bind(d, &pl.self_apply, "self_apply", &self_collide::apply_entries(b)),
             attach: bind(d, &pl.attach, "attach", &attach::entries(b)),
             gate: bind(d, &pl.gate, "gate", &chebyshev::gate_entries(b)),
+            close_seams: bind(d, &pl.close_seams, "close_seams", &close_seams::entries(b)),
         }
     }
 }

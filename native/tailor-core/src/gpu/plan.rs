@@ -5,7 +5,7 @@
 //! kept by hand beside the recording (it had drifted: new stages were recorded but not
 //! counted). Per substep, the stages of the CPU's substep in its order:
 //!
-//! 1. `predict`; when the colliders' hash is rebuilt (every substep while one moves, else once
+//! 1. `close_seams` (while pairs were on their closing schedule at upload), `predict`; when the colliders' hash is rebuilt (every substep while one moves, else once
 //!    after an upload) `lerp`, `count`, `scan`, `scatter`, `sort`; `attach` (riding pins);
 //! 2. per iteration: `gate` (early stop on, from the second iteration), `detect` (colliders),
 //!    `project` (triangles), `project_stencils` (curved), `gauss_seidel` (one per colour),
@@ -40,6 +40,10 @@ pub(super) fn frame<'a>(
     let mut plan = Vec::new();
     let mut add = |pipeline, bind, groups| plan.push(Dispatch { pipeline, bind, groups });
     for _ in 0..substeps {
+        if u.closing_scheduled {
+            // Before `predict`, as `Simulation::predict` closes the seams first.
+            add(&pl.close_seams, &g.close_seams, 1);
+        }
         add(&pl.predict, &g.predict, groups(n, predict::WORKGROUP));
         if rebuild_each_substep || rebuild_first {
             rebuild_first = false;

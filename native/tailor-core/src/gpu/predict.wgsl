@@ -1,4 +1,5 @@
-// Prediction stage (port of `Simulation::predict`): y = x + h·v + h²·g (pinned particles at
+// Prediction stage (port of `Simulation::predict`): y = x + h·v + h²·g, g held by the ramp
+// while seams close (`gravity_now`; pinned particles at
 // their targets), initial guess x = y, fixed right-hand side M/h²·y + b_const; also starts the
 // substep's Chebyshev sequence (prev = cur = y) and resets the iteration state.
 
@@ -25,6 +26,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (i >= params.n) {
         return;
     }
+    let g = gravity_now();
     let p = particles[i];
     let xi = x[i].xyz;
     x_start[i] = vec4<f32>(xi, 0.0);
@@ -32,7 +34,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if ((p.flags & PARTICLE_PINNED) != 0u) {
         y = p.pin_target;
     } else {
-        y = xi + v[i].xyz * params.h + params.gravity * (params.h * params.h);
+        y = xi + v[i].xyz * params.h + g * (params.h * params.h);
     }
     let y4 = vec4<f32>(y, 0.0);
     x[i] = y4;

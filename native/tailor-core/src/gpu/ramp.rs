@@ -1,4 +1,4 @@
-//! Host side of `ramp.wgsl` (seam gaps and the seam-closing ramp, on the GPU).
+//! Host side of `ramp.wgsl` (seam gaps and the seam-closing ramp's state machine, on the GPU).
 
 use super::Buffers;
 
@@ -18,5 +18,15 @@ mod tests {
     fn ramp_wgsl_validates() {
         let m = validate_wgsl("ramp", SOURCE).unwrap();
         assert!(m.entry_points.iter().any(|e| e.name == ENTRY));
+    }
+
+    /// The stall watch's constants are the CPU's.
+    #[test]
+    fn ramp_wgsl_stalls_as_the_cpu_does() {
+        use crate::solver::stages::damping::{STALL_SHRINK, STALL_TIME};
+        for (name, v) in [("STALL_TIME", STALL_TIME), ("STALL_SHRINK", STALL_SHRINK)] {
+            let line = format!("const {name}: f32 = {v:?};");
+            assert!(SOURCE.contains(&line), "ramp.wgsl lacks `{line}`");
+        }
     }
 }

@@ -71,12 +71,29 @@ fn main(@builtin(local_invocation_index) li: u32) {
     // Each overlapping pair was counted by both of its particles.
     state.self_pairs = pairs[0] / 2u;
     state.substep = (state.substep + 1u) % params.substeps;
-    // `Ramp::advance`.
+    // `Ramp::advance`: released when the seams have met (the fraction closed and the widest
+    // gap), or, once every pair's schedule has run out, when the widest gap has stopped
+    // shrinking (`Ramp::stalled`).
     let h = params.h;
+    let widest = gap_max[0];
+    let met = frac >= params.closed_fraction && widest <= params.release_gap;
+    var stalled = false;
+    if (state.phase == PHASE_CLOSING && state.closing == 0u) {
+        var best = widest;
+        var since = 0.0;
+        if (state.stall_on != 0u && widest >= STALL_SHRINK * state.stall_best) {
+            best = state.stall_best;
+            since = state.stall_since + h;
+        }
+        state.stall_on = 1u;
+        state.stall_best = best;
+        state.stall_since = since;
+        stalled = since >= STALL_TIME;
+    }
     if (params.has_seams == 0u) {
         state.phase = PHASE_DONE;
     } else if (state.phase == PHASE_CLOSING) {
-        if (frac >= params.closed_fraction) {
+        if (met || stalled) {
             state.phase = PHASE_RELEASING;
             state.elapsed = 0.0;
         }
@@ -88,3 +105,7 @@ fn main(@builtin(local_invocation_index) li: u32) {
         }
     }
 }
+
+// `damping::STALL_TIME` and `damping::STALL_SHRINK` (`ramp.rs` checks they agree).
+const STALL_TIME: f32 = 0.5;
+const STALL_SHRINK: f32 = 0.95;

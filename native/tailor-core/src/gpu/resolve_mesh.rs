@@ -13,8 +13,16 @@ pub const ENTRY: &str = "main";
 pub const WORKGROUP: u32 = 64;
 
 pub fn entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    let mut e =
-        vec![(0, &b.params), (2, &b.x), (3, &b.x_start), (4, &b.v), (5, &b.contacts), (6, &b.fdata), (7, &b.particles)];
+    let mut e = vec![
+        (0, &b.params),
+        (1, &b.state),
+        (2, &b.x),
+        (3, &b.x_start),
+        (4, &b.v),
+        (5, &b.contacts),
+        (6, &b.fdata),
+        (7, &b.particles),
+    ];
     e.extend(super::mesh_query::entries(b));
     e
 }

@@ -5,8 +5,11 @@
 // contact pushed it out of free flight) and the last iteration's contact force as a
 // displacement, w·((p − x)·n)·h²/m (`contact_pushes`: the body pushing back against the
 // cloth's tension too; not on sewn particles), the tangential part of (x − x₀ − v_c·h) is removed when under μs·d,
-// else shortened by μk·d. Runs before `finish` (analytic colliders, velocities). Frames whose
-// seams are still closing run on the CPU, so the frictionless closing is not ported.
+// else shortened by μk·d. A particle whose motion over the substep crossed a triangle front
+// to back goes back out on that side (the crossing decides before the nearest surface), and
+// a corrected particle whose path from the substep's start now crosses a surface stays where
+// the substep began (`keep_corrections_in_front`). While seams close the push is 0 (their
+// pull is an assembly force: what it presses onto the body slides). Runs before `finish`.
 
 @group(0) @binding(2) var<storage, read_write> x: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> x_start: array<vec4<f32>>;
@@ -26,11 +29,16 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let analytic = ct.weight > 0.0 && (ct.collider & MESH_CONTACT) == 0u;
     // The last iteration's contact force as a displacement (`contact_pushes`).
     var push = 0.0;
-    if (ct.weight > 0.0 && is_mesh(ct.collider) && (particles[i].flags & PARTICLE_SEWN) == 0u) {
+    if (!ramp_closing() && ct.weight > 0.0 && is_mesh(ct.collider) && (particles[i].flags & PARTICLE_SEWN) == 0u) {
         let behind = max(dot(ct.target_pos - p, ct.normal), 0.0);
         push = ct.weight * behind * params.h * params.h / particles[i].mass;
     }
-    let d = deepest_mesh_contact(p, bitcast<i32>(idx[params.particle_levels + i]));
+    let level = bitcast<i32>(idx[params.particle_levels + i]);
+    let xs = x_start[i].xyz;
+    var d = deepest_mesh_crossing(xs, p, level);
+    if (d.hit.found == 0u) {
+        d = deepest_mesh_contact(p, level);
+    }
     if (d.hit.found != 0u && !analytic) {
         p = d.hit.target_pos;
         ct.normal = d.hit.normal;
@@ -41,9 +49,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (is_mesh(ct.collider)) {
         let mi = meshes.m[ct.collider & ~MESH_CONTACT];
         let n = ct.normal;
-        let xs = x_start[i].xyz;
         // The prediction y as `predict` computed it (contacts never involve pinned particles).
-        let y = xs + v[i].xyz * params.h + params.gravity * (params.h * params.h);
+        let y = xs + v[i].xyz * params.h + gravity_now() * (params.h * params.h);
         let dn = max(dot(p - y, n), push);
         if (dn > 0.0) {
             var vc = vec3<f32>(0.0);
@@ -67,6 +74,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 p = p - rel_t * min(mu.y * dn / lt, 1.0);
             }
         }
+    }
+    if (is_mesh(ct.collider) && deepest_mesh_crossing(xs, p, level).hit.found != 0u) {
+        p = xs;
     }
     x[i] = vec4<f32>(p, 0.0);
     contacts[i] = ct;

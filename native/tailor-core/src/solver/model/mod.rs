@@ -32,6 +32,9 @@ use self::settings::Fabric;
 use self::soa::{vec_bytes, Vec3Soa};
 use self::system::{SparseSym, SparseSym32};
 
+/// The slot-layout id of the seam pairs' stencil set ([`Model::stencil_set`]).
+pub const SEAM_PAIRS_SET: u8 = 2;
+
 /// Where each constraint's right-hand-side contribution lands: triangles own slots `3t..3t+3`;
 /// stencils with a non-zero rest length ("curved": their projection is not constant) own one
 /// slot per term after those. Each particle sums its slots (compressed rows).
@@ -444,7 +447,7 @@ impl Model {
         let mut curved = Vec::new();
         let mut curved_base = Vec::new();
         let mut total = 3 * self.triangles.len();
-        for (set_id, set) in [(0u8, &self.bending), (1u8, &self.seam_hinges), (2u8, &self.seam_pairs)] {
+        for (set_id, set) in [(0u8, &self.bending), (1u8, &self.seam_hinges), (SEAM_PAIRS_SET, &self.seam_pairs)] {
             for s in 0..set.len() {
                 if set.rest[s] != 0.0 {
                     curved.push((set_id, s as u32));

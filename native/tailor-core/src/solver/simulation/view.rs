@@ -8,7 +8,7 @@ use crate::solver::model::settings::SolverSettings;
 use crate::solver::model::soa::Vec3Soa;
 use crate::solver::model::Model;
 use crate::solver::simulation::Simulation;
-use crate::solver::stages::damping::RampPhase;
+use crate::solver::stages::damping::Ramp;
 
 /// Everything a backend needs to run the same substeps as [`Simulation::step`].
 pub struct SolverView<'a> {
@@ -23,7 +23,14 @@ pub struct SolverView<'a> {
     pub h: f32,
     /// The Chebyshev radius the CPU would use (0 when not accelerating).
     pub rho: f32,
-    pub ramp_phase: RampPhase,
+    /// The seam-closing ramp's state machine (phase and stall watch).
+    pub ramp: &'a Ramp,
+    /// Some seam pair still has closing schedule left ([`Simulation::seams_closing`]).
+    pub seams_closing: bool,
+    /// Each seam pair's gap when sewn and schedule left, m (shorter than the pairs when
+    /// some were sewn without a schedule: those have none).
+    pub closing_gap0: &'a [f32],
+    pub closing_left: &'a [f32],
     pub colliders: &'a [ImplicitCollider],
     /// Collision thickness, metres.
     pub thickness: f32,
@@ -55,7 +62,10 @@ impl Simulation {
             diag: &self.diag,
             h: self.h_prepared,
             rho,
-            ramp_phase: self.ramp.phase,
+            ramp: &self.ramp,
+            seams_closing: self.seams_closing,
+            closing_gap0: &self.closing_gap0,
+            closing_left: &self.closing_left,
             colliders: &self.colliders,
             thickness: self.thickness,
             collide: &self.collide,
@@ -64,17 +74,35 @@ impl Simulation {
         }
     }
 
-    /// Takes back positions computed elsewhere (already checked finite by the caller) and
-    /// advances the clock and the ramp as the CPU step would have.
+    /// Takes back the state another backend computed (positions already checked finite by
+    /// the caller) and advances the clock as the CPU step would have.
     #[cfg(feature = "gpu")]
-    pub(crate) fn accept_backend_state(&mut self, x: Option<&[[f32; 4]]>, ramp: RampPhase, elapsed: f64) {
-        if let Some(x) = x {
+    pub(crate) fn accept_backend_state(&mut self, back: BackendState<'_>) {
+        if let Some(x) = back.x {
             for (i, p) in x.iter().enumerate() {
                 self.x.set(i, glam::Vec3::new(p[0], p[1], p[2]));
             }
         }
-        self.ramp.phase = ramp;
-        self.time += elapsed;
+        self.ramp = back.ramp;
+        if let Some(seams) = back.seams {
+            self.seams_closing = seams.closing;
+            let pairs = &mut self.model.seam_pairs;
+            for (s, &(left, rest)) in seams.pairs.iter().enumerate().take(self.closing_left.len()) {
+                self.closing_left[s] = left;
+                pairs.rest[s] = rest;
+            }
+        }
+        self.time += back.elapsed;
+    }
+
+    /// Whether the body's holds of the closing phase are to be placed or released now
+    /// (`closing_hold.rs`): another backend hands the step to [`Simulation::update_closing_holds`],
+    /// which edits the model, around its frames.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn closing_holds_due(&self) -> bool {
+        let closing = self.ramp_closing() && self.settings.ramp.closing_hold > 0.0;
+        (closing && !self.collide.holds_placed && !self.collide.meshes.is_empty())
+            || (!closing && !self.collide.holds.is_empty())
     }
 
     /// Whether the next step has nothing to solve (the cloth is asleep and nothing drives it),
@@ -122,4 +150,25 @@ impl Simulation {
             self.v.set(i, glam::Vec3::new(p[0], p[1], p[2]));
         }
     }
+}
+
+/// What another backend hands back after its frame (see [`Simulation::accept_backend_state`]).
+#[cfg(feature = "gpu")]
+pub(crate) struct BackendState<'a> {
+    /// Positions (xyz of each vec4), when they changed.
+    pub x: Option<&'a [[f32; 4]]>,
+    pub ramp: Ramp,
+    /// Seconds the frame advanced.
+    pub elapsed: f64,
+    /// The seams' closing schedule, when the frame ran it.
+    pub seams: Option<SeamClosing<'a>>,
+}
+
+/// The seams' closing schedule after another backend's frame.
+#[cfg(feature = "gpu")]
+pub(crate) struct SeamClosing<'a> {
+    /// Some pair still has schedule left.
+    pub closing: bool,
+    /// Per pair: the schedule left and the rest length, m.
+    pub pairs: &'a [(f32, f32)],
 }

@@ -139,6 +139,8 @@ def test_simulate_runs_every_frame_of_the_tshirt_on_the_gpu_and_agrees_with_the_
         pytest.skip(f"no GPU adapter: {gpu['warnings']}")
     cpu = simulate(tmp_path, "cpu")
     assert gpu["summary"]["backends"] == {"gpu": FRAMES}
+    # A fresh process makes the shared GPU context.
+    assert gpu["gpu_setup"]["context_made"] is True and cpu["gpu_setup"] is None
     for f in gpu["frames"]:
         assert f["backend"] == "gpu" and not f["backend_warning"], f
     assert cpu["summary"]["backends"] == {"cpu": FRAMES}
@@ -153,3 +155,13 @@ def test_simulate_runs_every_frame_of_the_tshirt_on_the_gpu_and_agrees_with_the_
         assert abs(g["strain_max"] - c["strain_max"]) < 0.1 * c["strain_max"], (g, c)
         assert abs(g["centroid_shift_m"] - c["centroid_shift_m"]) < 0.01, (g, c)
         assert g["on_body_fraction"] > 0.98, g
+
+
+def test_gpu_simulations_share_one_context():
+    """The first GPU simulation of the process makes the shared context (adapter, device, every
+    shader compiled); later ones reuse it; on the CPU there is none."""
+    first = gpu_or_skip(strip(backend="gpu"))
+    assert set(first.gpu_setup) == {"context_made", "seconds"} and first.gpu_setup["seconds"] >= 0.0
+    second = strip(backend="gpu")
+    assert second.gpu_setup["context_made"] is False
+    assert strip(backend="cpu").gpu_setup is None

@@ -126,8 +126,8 @@ def main(argv=None) -> int:
     text = (f"# bench-gpu\n\nCommand: `python bench/gpu/run.py {' '.join(argv or sys.argv[1:])}` ({started}, commit "
             f"{commit()}). Machine: {before}; at the end: {machine()}. GPU adapter: {adapter or 'none'}.\n\n"
             f"## The solver alone, body and self collision\n\n{solver}\n"
-            f"## The samples on the walk, Final preset ({args.frames} frames; frames whose seams close run on "
-            f"the CPU by design)\n\n{samples}")
+            f"## The samples on the walk, Final preset ({args.frames} frames, the assembly included; a frame "
+            f"the GPU could not run is counted under cpu)\n\n{samples}")
     (out / "bench-gpu.md").write_text(text)
     print(text)
     print(f"wrote {out / 'bench-gpu.md'}")

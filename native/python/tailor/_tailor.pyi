@@ -97,6 +97,8 @@ class Simulation:
     # Backend: "auto" | "cpu" | "gpu"; `backend` is the one in use ("cpu" or "gpu").
     backend: str
     adapter: str | None
+    # {"context_made": bool, "seconds": float} on the GPU (the shared context made or reused).
+    gpu_setup: dict[str, Any] | None
     backend_warning: str | None
     def set_backend(self, backend: str) -> None: ...
     def set_mass_scale(self, scale: ArrayLike) -> None: ...

@@ -112,6 +112,17 @@ impl Solver {
         ActiveBackend::Cpu
     }
 
+    /// How the GPU backend's creation went (whether it made the process's shared GPU context,
+    /// and the seconds it took), when the GPU is in use.
+    pub fn gpu_setup(&self) -> Option<(bool, f64)> {
+        #[cfg(feature = "gpu")]
+        if let Some(g) = &self.gpu {
+            let s = g.setup();
+            return Some((s.context_made, s.seconds));
+        }
+        None
+    }
+
     /// Why the GPU is not in use although it was asked for, if so.
     pub fn warning(&self) -> Option<&str> {
         self.warning.as_deref()

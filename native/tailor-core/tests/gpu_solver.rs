@@ -833,3 +833,34 @@ fn seams_close_under_the_ramp_on_the_gpu_as_on_the_cpu() {
     let (gap, _) = g.simulation().seam_gaps();
     assert!(gap < 1e-3, "the seams are {gap} m open on the GPU after 2 s");
 }
+
+/// Every GPU simulation of the process shares one context (device, queue, the stages compiled
+/// once): a second one reuses it, and two simulations stepping at once on two threads give
+/// exactly what each gives alone (each has its own buffers; error scopes are serialised).
+#[test]
+fn simulations_share_the_gpu_context_and_step_on_two_threads() {
+    let Some(first) = gpu(tube(), "shared_context") else { return };
+    let second = Solver::new(tube(), Backend::Gpu);
+    let (made, seconds) = second.gpu_setup().expect("the second simulation is on the GPU");
+    println!("shared_context: first {:?}, second made {made} in {:.1} ms", first.gpu_setup(), seconds * 1e3);
+    assert!(!made, "the second simulation made a context of its own");
+    let alone = {
+        let mut s = Solver::new(tube(), Backend::Gpu);
+        for _ in 0..10 {
+            s.step(1.0 / 30.0).unwrap();
+        }
+        s.simulation().state_hash()
+    };
+    let run = |mut s: Solver| {
+        std::thread::spawn(move || {
+            for _ in 0..10 {
+                assert_eq!(s.step(1.0 / 30.0).unwrap().backend, ActiveBackend::Gpu);
+            }
+            s.simulation().state_hash()
+        })
+    };
+    let (a, b) = (run(first), run(second));
+    let (a, b) = (a.join().unwrap(), b.join().unwrap());
+    assert_eq!(a, alone, "a simulation stepping beside another differs from one alone");
+    assert_eq!(b, alone, "a simulation stepping beside another differs from one alone");
+}

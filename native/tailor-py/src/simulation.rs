@@ -209,6 +209,20 @@ impl Simulation {
         crate::errors::guard(|| Ok(self.solver()?.adapter()))
     }
 
+    /// How the GPU backend was set up, or None on the CPU: `{"context_made": bool,
+    /// "seconds": float}`. The first GPU simulation of the process makes the shared context
+    /// (adapter, device, every shader compiled); later ones reuse it.
+    #[getter]
+    fn gpu_setup<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        crate::errors::guard(|| {
+            let Some((made, seconds)) = self.solver()?.gpu_setup() else { return Ok(None) };
+            let d = PyDict::new(py);
+            d.set_item("context_made", made)?;
+            d.set_item("seconds", seconds)?;
+            Ok(Some(d))
+        })
+    }
+
     /// Why the GPU asked for is not in use, or None.
     #[getter]
     fn backend_warning(&self) -> PyResult<Option<String>> {

@@ -172,7 +172,7 @@ def run(args):
     def report(complete: bool) -> dict:
         summary = bake.summarize(frames)
         doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
-               "adapter": sim.adapter, **setup, "pins_attached": bool(pins.attached), "up": up,
+               "adapter": sim.adapter, "gpu_setup": sim.gpu_setup, **setup, "pins_attached": bool(pins.attached), "up": up,
                "collider_up": collider_up, "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)
         tmp = args.report + ".tmp"

@@ -65,6 +65,7 @@ pub mod close_seams;
 pub mod collide_common;
 pub mod common;
 pub mod contacts;
+mod context;
 pub mod finish;
 pub mod gauss_seidel;
 pub mod hash;
@@ -79,7 +80,7 @@ pub mod ramp;
 pub mod resolve_mesh;
 pub mod self_collide;
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::Instant;
 
 use bytemuck::Zeroable;
@@ -104,6 +105,7 @@ use predict::Particle;
 
 pub use buffers::Buffers;
 use buffers::{Capacities, STATE_BYTES, VEC4};
+use context::GpuContext;
 use pipelines::{BindGroups, Pipelines};
 
 /// Set to `1` to make adapter discovery fail (tests of the CPU fallback).
@@ -166,20 +168,27 @@ struct Uploaded {
     method: Method,
 }
 
-/// The GPU backend: a device, the compiled stages, and the model and state once uploaded.
+/// The GPU backend of one simulation: the shared context (device and compiled stages), and
+/// this simulation's buffers, bind groups and uploaded model and state.
 pub struct GpuSolver {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
-    info: wgpu::AdapterInfo,
-    pipelines: Pipelines,
+    ctx: Arc<GpuContext>,
+    setup: GpuSetup,
     buffers: Option<Buffers>,
     binds: Option<BindGroups>,
     uploaded: Option<Uploaded>,
     dirty: bool,
     /// The collider hash on the GPU is built for the current collider positions.
     mesh_hash_valid: bool,
-    /// Errors wgpu reports asynchronously (validation, out of memory, device lost).
-    errors: Arc<Mutex<Option<String>>>,
+}
+
+/// How a [`GpuSolver`]'s creation went.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpuSetup {
+    /// It made the process's shared context (the first GPU simulation, or the first after a
+    /// lost device); otherwise it reused it.
+    pub context_made: bool,
+    /// Seconds its creation took (the context's creation included when it made it).
+    pub seconds: f64,
 }
 
 fn groups(count: usize, size: u32) -> u32 {
@@ -203,75 +212,39 @@ fn phase_from_gpu(phase: u32, elapsed: f32) -> RampPhase {
 }
 
 impl GpuSolver {
-    /// Finds an adapter and compiles the stages. `Err` names why (no adapter, device refused).
+    /// The backend on the process's shared GPU context (made on first use: adapter, device,
+    /// shaders compiled). `Err` names why there is none (no adapter, device refused).
     pub fn new(options: GpuOptions) -> Result<Self, String> {
         let forced = options.force_no_adapter || std::env::var(FORCE_NO_ADAPTER_ENV).is_ok_and(|v| v == "1");
         if forced {
             return Err("no GPU adapter (forced off)".into());
         }
-        let instance = wgpu::Instance::new(&wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all()),
-            ..Default::default()
-        });
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: None,
-        }))
-        .map_err(|e| format!("no GPU adapter: {e}"))?;
-        let info = adapter.get_info();
-        // The stages bind up to 8 storage buffers; ask for what the adapter has (at least the
-        // WebGPU defaults) rather than the downlevel minimum.
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("tailor"),
-            required_limits: adapter.limits(),
-            ..Default::default()
-        }))
-        .map_err(|e| format!("GPU device request failed on {}: {e}", info.name))?;
-        let errors = Arc::new(Mutex::new(None::<String>));
-        {
-            let errors = errors.clone();
-            device.on_uncaptured_error(Box::new(move |e| {
-                if let Ok(mut slot) = errors.lock() {
-                    slot.get_or_insert_with(|| e.to_string());
-                }
-            }));
-        }
-        {
-            let errors = errors.clone();
-            device.set_device_lost_callback(move |_, msg| {
-                if let Ok(mut slot) = errors.lock() {
-                    slot.get_or_insert_with(|| format!("device lost: {msg}"));
-                }
-            });
-        }
-        device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let pipelines = Pipelines::compile(&device);
-        if let Some(e) = pollster::block_on(device.pop_error_scope()) {
-            return Err(format!("compiling the shaders failed on {}: {e}", info.name));
-        }
+        let t0 = Instant::now();
+        let (ctx, made) = GpuContext::shared()?;
         Ok(Self {
-            device,
-            queue,
-            info,
-            pipelines,
+            ctx,
+            setup: GpuSetup { context_made: made, seconds: t0.elapsed().as_secs_f64() },
             buffers: None,
             binds: None,
             uploaded: None,
             dirty: true,
             mesh_hash_valid: false,
-            errors,
         })
+    }
+
+    /// How this backend's creation went: whether it made the shared context, and in how long.
+    pub fn setup(&self) -> GpuSetup {
+        self.setup
     }
 
     /// The adapter in use (name, backend, device type, driver).
     pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
-        &self.info
+        &self.ctx.info
     }
 
     /// Whether the adapter is a software rasteriser (lavapipe, SwiftShader, WARP).
     pub fn is_software(&self) -> bool {
-        self.info.device_type == wgpu::DeviceType::Cpu
+        self.ctx.info.device_type == wgpu::DeviceType::Cpu
     }
 
     /// The simulation was edited on the CPU: upload everything again before the next step.
@@ -280,7 +253,7 @@ impl GpuSolver {
     }
 
     fn take_error(&self) -> Option<String> {
-        self.errors.lock().ok().and_then(|mut e| e.take())
+        self.ctx.take_error()
     }
 
     /// Why `sim` cannot run on the GPU yet, if it cannot (call after `gpu_view`).
@@ -568,14 +541,14 @@ impl GpuSolver {
             attachments: attachments.len(),
             seam_pairs: sp.len(),
         };
-        let stride = self.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
+        let stride = self.ctx.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
         let realloc = self.buffers.as_ref().is_none_or(|b| !b.caps.fits(&need));
         if realloc {
-            self.buffers = Some(Buffers::new(&self.device, need, stride));
+            self.buffers = Some(Buffers::new(&self.ctx.device, need, stride));
             self.binds = None;
         }
         let b = self.buffers.as_ref().ok_or_else(|| GpuFailure::Device("buffers missing".into()))?;
-        let q = &self.queue;
+        let q = &self.ctx.queue;
         let vec4 = |s: &crate::solver::Vec3Soa| -> Vec<[f32; 4]> {
             (0..s.len()).map(|i| [s.x[i], s.y[i], s.z[i], 0.0]).collect()
         };
@@ -670,7 +643,7 @@ impl GpuSolver {
         // Bind groups depend on the buffers and on the colour count only.
         let rebind = self.binds.as_ref().is_none_or(|g| g.gauss_seidel.len() != colours.len());
         if rebind {
-            self.binds = Some(BindGroups::new(&self.device, &self.pipelines, b, colours.len(), stride));
+            self.binds = Some(BindGroups::new(&self.ctx.device, &self.ctx.pipelines, b, colours.len(), stride));
         }
         self.uploaded = Some(Uploaded {
             n,
@@ -743,11 +716,11 @@ impl GpuSolver {
         }
         if upload {
             let view = sim.gpu_view(h);
-            self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let r = self.upload(&view);
-            if let Some(e) = pollster::block_on(self.device.pop_error_scope()) {
+            let ctx = self.ctx.clone();
+            let (r, invalid) = ctx.validated(|| self.upload(&view));
+            if let Some(e) = invalid {
                 self.dirty = true;
-                return Err(GpuFailure::Device(e.to_string()));
+                return Err(GpuFailure::Device(e));
             }
             if r.is_err() {
                 self.dirty = true;
@@ -766,11 +739,11 @@ impl GpuSolver {
                 if m.moving && !upload {
                     let next: Vec<[f32; 4]> = m.next.iter().map(|p| [p[0], p[1], p[2], 0.0]).collect();
                     let off = (nv + u.mesh_vert_off[c] as u64) * VEC4;
-                    self.queue.write_buffer(&b.mverts, off, bytemuck::cast_slice(&next));
+                    self.ctx.queue.write_buffer(&b.mverts, off, bytemuck::cast_slice(&next));
                 }
             }
             u.meshes.inv_dt = 1.0 / dt;
-            self.queue.write_buffer(&b.meshes, 0, bytemuck::bytes_of(&u.meshes));
+            self.ctx.queue.write_buffer(&b.meshes, 0, bytemuck::bytes_of(&u.meshes));
         }
         // Build the colliders' hash every substep while one moves, else once after an upload.
         let rebuild_each_substep = u.n_meshes > 0 && moving;
@@ -778,14 +751,14 @@ impl GpuSolver {
         let rebuilds = if rebuild_each_substep { substeps } else { rebuild_first as u32 };
         let n = u.n;
         let accelerate = u.method == Method::Chebyshev;
-        let pl = &self.pipelines;
+        let pl = &self.ctx.pipelines;
         // The frame's iteration count starts at zero (the early stop may run fewer).
         // So do the frame's iteration count (the early stop may run fewer) and its top speed.
         let at = std::mem::offset_of!(StepState, iterations_run) as u64;
-        self.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&[0u32; 2]));
+        self.ctx.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&[0u32; 2]));
         let plan = plan::frame(pl, g, u, substeps, iterations, rebuild_each_substep, rebuild_first);
         let dispatches = plan.len();
-        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let mut enc = self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let xbytes = n as u64 * VEC4;
         enc.copy_buffer_to_buffer(&b.x, 0, &b.x_backup, 0, xbytes);
         enc.copy_buffer_to_buffer(&b.v, 0, &b.v_backup, 0, xbytes);
@@ -810,7 +783,7 @@ impl GpuSolver {
         }
         let (n_colours, rho, n_tris_total) = (u.colours.len(), u.rho, u.n_mesh_tris);
         let has_meshes = u.n_meshes > 0;
-        self.queue.submit([enc.finish()]);
+        self.ctx.queue.submit([enc.finish()]);
         let bytes = self.read(xbytes + STATE_BYTES + pair_bytes)?;
         let (xs, rest) = bytes.split_at(xbytes as usize);
         let (st, pairs) = rest.split_at(STATE_BYTES as usize);
@@ -892,16 +865,17 @@ impl GpuSolver {
     /// Copies the backups of x, v and the state back (after a diverged frame).
     fn restore_backup(&mut self, xbytes: u64) -> Result<(), GpuFailure> {
         let b = self.buffers.as_ref().ok_or_else(|| GpuFailure::Device("buffers missing".into()))?;
-        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("rollback") });
+        let mut enc =
+            self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("rollback") });
         enc.copy_buffer_to_buffer(&b.x_backup, 0, &b.x, 0, xbytes);
         enc.copy_buffer_to_buffer(&b.v_backup, 0, &b.v, 0, xbytes);
         enc.copy_buffer_to_buffer(&b.state_backup, 0, &b.state, 0, STATE_BYTES);
-        self.queue.submit([enc.finish()]);
+        self.ctx.queue.submit([enc.finish()]);
         self.wait()
     }
 
     fn wait(&self) -> Result<(), GpuFailure> {
-        self.device.poll(wgpu::PollType::Wait).map_err(|e| GpuFailure::Device(e.to_string()))?;
+        self.ctx.device.poll(wgpu::PollType::Wait).map_err(|e| GpuFailure::Device(e.to_string()))?;
         match self.take_error() {
             Some(e) => Err(GpuFailure::Device(e)),
             None => Ok(()),
@@ -937,9 +911,10 @@ impl GpuSolver {
             return Ok(());
         }
         let bytes = u.n as u64 * VEC4;
-        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("velocities") });
+        let mut enc =
+            self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("velocities") });
         enc.copy_buffer_to_buffer(&b.v, 0, &b.readback, 0, bytes);
-        self.queue.submit([enc.finish()]);
+        self.ctx.queue.submit([enc.finish()]);
         let data = self.read(bytes)?;
         sim.accept_backend_velocities(bytemuck::cast_slice(&data));
         Ok(())
@@ -950,7 +925,7 @@ impl GpuSolver {
     pub fn dispatches_per_frame(&self, substeps: u32, iterations: u32) -> usize {
         let (Some(u), Some(g)) = (&self.uploaded, &self.binds) else { return 0 };
         // A moving collider's hash is rebuilt every substep (the benchmarks' case).
-        plan::frame(&self.pipelines, g, u, substeps, iterations, u.n_meshes > 0, false).len()
+        plan::frame(&self.ctx.pipelines, g, u, substeps, iterations, u.n_meshes > 0, false).len()
     }
 
     /// Runs one frame's worth of dispatches ([`GpuSolver::dispatches_per_frame`]) of one
@@ -962,9 +937,9 @@ impl GpuSolver {
         let (Some(_), Some(g)) = (&self.buffers, &self.binds) else {
             return Err(GpuFailure::Device("nothing uploaded".into()));
         };
-        let pl = &self.pipelines;
+        let pl = &self.ctx.pipelines;
         let t0 = Instant::now();
-        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("empty") });
+        let mut enc = self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("empty") });
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
             // The extrapolation kernel returns at once for indices past n: with n read from the
@@ -975,7 +950,7 @@ impl GpuSolver {
                 pass.dispatch_workgroups(1, 1, 1);
             }
         }
-        self.queue.submit([enc.finish()]);
+        self.ctx.queue.submit([enc.finish()]);
         self.dirty = true;
         self.wait()?;
         Ok(t0.elapsed().as_secs_f64())

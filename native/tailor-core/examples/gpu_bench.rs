@@ -14,14 +14,19 @@
 //!
 //! `ns/p·it` is frame time over particles × substeps × iterations. "empty frame" runs as many
 //! one-workgroup dispatches as a frame of that scene records (`GpuSolver::dispatches_per_frame`)
-//! with nothing to do: the fixed cost of a frame on that adapter, reported separately.
+//! with nothing to do: the fixed cost of a frame on that adapter, reported separately. The
+//! stage columns are prediction / local / global / damping in ms per frame: the CPU's stage
+//! timers, and on the GPU its timestamp queries over a few more frames with stage timing on
+//! (`-` where the adapter has none; the GPU ms/frame is measured with it off).
 
 use std::time::Instant;
 
 use tailor_core::gpu::{GpuOptions, GpuSolver};
 use tailor_core::mesh::ClothMesh;
 use tailor_core::scenes::{icosphere, rectangle};
-use tailor_core::solver::{ColliderId, Fabric, MeshColliderOptions, SelfCollisionSettings, Simulation, SolverSettings};
+use tailor_core::solver::{
+    ColliderId, Fabric, MeshColliderOptions, SelfCollisionSettings, Simulation, SolverSettings, StageTimings, STAGES,
+};
 
 const DT: f32 = 1.0 / 30.0;
 const SPHERE_R: f32 = 0.3;
@@ -93,15 +98,29 @@ fn animate(sim: &mut Simulation, frame: usize) {
 
 /// Mean seconds per frame over at least one frame and about `budget` seconds, after one
 /// warm-up frame (rebuilds, uploads, pipeline caches).
-fn time_frames(budget: f64, mut frame: impl FnMut(usize)) -> f64 {
+/// Mean wall time per frame and mean time per stage (the step's own timings: on the GPU from
+/// timestamp queries where the adapter has them), over the frames after the first.
+fn time_frames(budget: f64, mut frame: impl FnMut(usize) -> StageTimings) -> (f64, [f64; 4]) {
     frame(0);
     let t0 = Instant::now();
     let mut frames = 0;
+    let mut stages = [0.0f64; 4];
     while frames == 0 || (t0.elapsed().as_secs_f64() < budget && frames < 30) {
-        frame(frames + 1);
+        let t = frame(frames + 1);
+        for (k, s) in STAGES.iter().enumerate() {
+            stages[k] += t[*s];
+        }
         frames += 1;
     }
-    t0.elapsed().as_secs_f64() / frames as f64
+    (t0.elapsed().as_secs_f64() / frames as f64, stages.map(|t| t / frames as f64))
+}
+
+/// `a / b / c / d` ms: prediction, local, global, damping.
+fn stage_ms(t: &[f64; 4]) -> String {
+    if t.iter().any(|v| v.is_nan()) {
+        return "-".into();
+    }
+    t.iter().map(|v| format!("{:.1}", v * 1e3)).collect::<Vec<_>>().join(" / ")
 }
 
 fn load_average() -> String {
@@ -144,37 +163,52 @@ fn main() {
     );
     println!();
     println!(
-        "| particles | colours | CPU ms/frame | CPU ns/p·it | GPU ms/frame | GPU ns/p·it | empty frame ms | dispatches | CPU/GPU |"
+        "| particles | colours | CPU ms/frame | CPU ns/p·it | GPU ms/frame | GPU ns/p·it | empty frame ms | dispatches | CPU/GPU | CPU stages ms | GPU stages ms |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|");
     for &n in &o.sizes {
         let mut probe = scene(n, o.collisions, o.self_collision);
         let n = probe.num_particles();
         let colours = probe.colour_count();
         let work = (n as f64) * s.substeps as f64 * s.iterations as f64;
-        let mut cpu_t = f64::NAN;
+        let (mut cpu_t, mut cpu_stages) = (f64::NAN, [f64::NAN; 4]);
         if o.cpu {
             let mut cpu = scene(n, o.collisions, o.self_collision);
-            cpu_t = time_frames(o.budget, |f| {
+            (cpu_t, cpu_stages) = time_frames(o.budget, |f| {
                 animate(&mut cpu, f);
-                cpu.step(DT).expect("a stable CPU step");
+                cpu.step(DT).expect("a stable CPU step").timings
             });
         }
-        let (mut gpu_t, mut empty, mut dispatches) = (f64::NAN, f64::NAN, 0);
+        let (mut gpu_t, mut gpu_stages, mut empty, mut dispatches) = (f64::NAN, [f64::NAN; 4], f64::NAN, 0);
         if let Some(g) = &mut gpu {
             let mut sim = scene(n, o.collisions, o.self_collision);
-            let mut ok = true;
-            let t = time_frames(o.budget, |f| {
+            let (mut ok, mut last) = (true, 0);
+            let (t, _) = time_frames(o.budget, |f| {
+                last = f;
                 if ok {
                     animate(&mut sim, f);
-                    if let Err(e) = g.step(&mut sim, DT) {
-                        println!("GPU step failed: {e}");
-                        ok = false;
+                    match g.step(&mut sim, DT) {
+                        Ok(st) => return st.timings,
+                        Err(e) => {
+                            println!("GPU step failed: {e}");
+                            ok = false;
+                        }
                     }
                 }
+                StageTimings::default()
             });
             if ok {
                 gpu_t = t;
+                // The stage split from a few more frames with timestamps on (they cost the
+                // frame some per cent, so the frame time above is measured without them).
+                if g.set_stage_timing(true) {
+                    gpu_stages = time_frames(o.budget / 4.0, |f| {
+                        animate(&mut sim, last + 1 + f);
+                        g.step(&mut sim, DT).map(|st| st.timings).unwrap_or_default()
+                    })
+                    .1;
+                }
+                g.set_stage_timing(false);
                 dispatches = g.dispatches_per_frame(s.substeps, s.iterations);
                 let _ = g.sync_velocities(&mut sim);
                 empty = (0..3)
@@ -184,13 +218,15 @@ fn main() {
             g.mark_dirty();
         }
         println!(
-            "| {n} | {colours} | {:.1} | {:.0} | {:.1} | {:.0} | {:.1} | {dispatches} | {:.2} |",
+            "| {n} | {colours} | {:.1} | {:.0} | {:.1} | {:.0} | {:.1} | {dispatches} | {:.2} | {} | {} |",
             cpu_t * 1e3,
             cpu_t * 1e9 / work,
             gpu_t * 1e3,
             gpu_t * 1e9 / work,
             empty * 1e3,
-            cpu_t / gpu_t
+            cpu_t / gpu_t,
+            stage_ms(&cpu_stages),
+            stage_ms(&gpu_stages)
         );
     }
     println!();

@@ -864,3 +864,34 @@ fn simulations_share_the_gpu_context_and_step_on_two_threads() {
     assert_eq!(a, alone, "a simulation stepping beside another differs from one alone");
     assert_eq!(b, alone, "a simulation stepping beside another differs from one alone");
 }
+
+/// With stage timing on, a GPU frame reports its time per stage of the CPU's list from
+/// timestamp queries where the device writes them inside passes (lavapipe does): every stage
+/// gets time, and together they are no more than the frame's wall time. Without the feature,
+/// or with stage timing off (the default), the wall time is the global stage's.
+#[test]
+fn gpu_frames_report_per_stage_times() {
+    use tailor_core::gpu::{GpuOptions, GpuSolver};
+    use tailor_core::solver::{Stage, STAGES};
+    let Some(_) = gpu(tube(), "per_stage_times") else { return };
+    let mut g = GpuSolver::new(GpuOptions::default()).unwrap();
+    let mut sim = tube();
+    let st = g.step(&mut sim, 1.0 / 30.0).unwrap();
+    assert_eq!(st.timings.total(), st.timings[Stage::Global], "stage timing is off by default");
+    g.set_stage_timing(true);
+    for f in 0..5 {
+        let t0 = std::time::Instant::now();
+        let st = g.step(&mut sim, 1.0 / 30.0).unwrap();
+        let wall = t0.elapsed().as_secs_f64();
+        let t = st.timings;
+        println!("per_stage_times frame {f}: {:?} (timestamps {}), wall {:.2} ms", t, g.timestamps(), wall * 1e3);
+        if g.timestamps() {
+            for s in STAGES {
+                assert!(t[s] > 0.0, "frame {f}: no time for {s:?}");
+            }
+            assert!(t.total() <= wall, "frame {f}: stages {} s over the wall time {wall} s", t.total());
+        } else {
+            assert_eq!(t.total(), t[Stage::Global]);
+        }
+    }
+}

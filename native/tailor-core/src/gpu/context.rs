@@ -19,6 +19,10 @@ pub(super) struct GpuContext {
     pub(super) queue: wgpu::Queue,
     pub(super) info: wgpu::AdapterInfo,
     pub(super) pipelines: Pipelines,
+    /// The device writes timestamps inside compute passes (`TIMESTAMP_QUERY_INSIDE_PASSES`),
+    /// so frames can report per-stage GPU times; and nanoseconds per timestamp tick.
+    pub(super) timestamps: bool,
+    pub(super) timestamp_period: f32,
     /// The first error wgpu reported outside a scope (validation, out of memory), taken by the
     /// first simulation that looks.
     errors: Arc<Mutex<Option<String>>>,
@@ -64,9 +68,16 @@ impl GpuContext {
         let info = adapter.get_info();
         // The stages bind up to 8 storage buffers; ask for what the adapter has (at least the
         // WebGPU defaults) rather than the downlevel minimum.
+        let wanted = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+        // Asking for the features costs nothing; a simulation writes timestamps only when its
+        // stage timing is on (`GpuSolver::set_stage_timing`).
+        let timestamps = adapter.features().contains(wanted);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("tailor"),
             required_limits: adapter.limits(),
+            required_features: if timestamps { wanted } else { wgpu::Features::empty() },
             ..Default::default()
         }))
         .map_err(|e| format!("GPU device request failed on {}: {e}", info.name))?;
@@ -89,7 +100,18 @@ impl GpuContext {
         if let Some(e) = pollster::block_on(device.pop_error_scope()) {
             return Err(format!("compiling the shaders failed on {}: {e}", info.name));
         }
-        Ok(GpuContext { device, queue, info, pipelines, errors, lost, scope: Mutex::new(()) })
+        let timestamp_period = queue.get_timestamp_period();
+        Ok(GpuContext {
+            device,
+            queue,
+            info,
+            pipelines,
+            timestamps,
+            timestamp_period,
+            errors,
+            lost,
+            scope: Mutex::new(()),
+        })
     }
 
     /// Runs `f` inside a validation error scope of its own; returns its result and the

@@ -79,6 +79,8 @@ pub mod project_triangles;
 pub mod ramp;
 pub mod resolve_mesh;
 pub mod self_collide;
+mod timing;
+pub use timing::STAGE_TIMES_ENV;
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -179,6 +181,9 @@ pub struct GpuSolver {
     dirty: bool,
     /// The collider hash on the GPU is built for the current collider positions.
     mesh_hash_valid: bool,
+    /// Per-stage timestamps are written (`set_stage_timing`), and their query set once made.
+    stage_timing: bool,
+    timing: Option<timing::Timing>,
 }
 
 /// How a [`GpuSolver`]'s creation went.
@@ -229,7 +234,24 @@ impl GpuSolver {
             uploaded: None,
             dirty: true,
             mesh_hash_valid: false,
+            stage_timing: std::env::var(timing::STAGE_TIMES_ENV).is_ok_and(|v| v == "1"),
+            timing: None,
         })
+    }
+
+    /// Whether frames report per-stage GPU times: stage timing is on and the device writes
+    /// timestamps inside passes.
+    pub fn timestamps(&self) -> bool {
+        self.stage_timing && self.ctx.timestamps
+    }
+
+    /// Turns per-stage GPU times on or off (off by default, or on with
+    /// `TAILOR_GPU_STAGE_TIMES=1`): a timestamp after each run of one stage's dispatches costs
+    /// the frame 5-9 % on lavapipe (docs/gpu.md). Returns whether frames will report them
+    /// (false where the device has no timestamps inside passes).
+    pub fn set_stage_timing(&mut self, on: bool) -> bool {
+        self.stage_timing = on;
+        self.timestamps()
     }
 
     /// How this backend's creation went: whether it made the shared context, and in how long.
@@ -727,6 +749,7 @@ impl GpuSolver {
             }
             r?;
         }
+        let stage_timed = self.timestamps();
         let (Some(b), Some(g), Some(u)) = (&self.buffers, &self.binds, &mut self.uploaded) else {
             return Err(GpuFailure::Device("nothing uploaded".into()));
         };
@@ -751,6 +774,9 @@ impl GpuSolver {
         let rebuilds = if rebuild_each_substep { substeps } else { rebuild_first as u32 };
         let n = u.n;
         let accelerate = u.method == Method::Chebyshev;
+        if stage_timed && self.timing.is_none() {
+            self.timing = Some(timing::Timing::new(&self.ctx.device));
+        }
         let pl = &self.ctx.pipelines;
         // The frame's iteration count starts at zero (the early stop may run fewer).
         // So do the frame's iteration count (the early stop may run fewer) and its top speed.
@@ -758,6 +784,10 @@ impl GpuSolver {
         self.ctx.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&[0u32; 2]));
         let plan = plan::frame(pl, g, u, substeps, iterations, rebuild_each_substep, rebuild_first);
         let dispatches = plan.len();
+        // Per-stage times where the device writes timestamps inside passes (and the frame's
+        // marks fit one query set).
+        let marks = if stage_timed { plan::stage_marks(&plan) } else { Vec::new() };
+        let timed = self.timing.as_ref().filter(|_| !marks.is_empty() && marks.len() < timing::MAX_QUERIES as usize);
         let mut enc = self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let xbytes = n as u64 * VEC4;
         enc.copy_buffer_to_buffer(&b.x, 0, &b.x_backup, 0, xbytes);
@@ -768,11 +798,26 @@ impl GpuSolver {
             // storage buffers, so colours and stages see each other's writes.
             let mut pass = enc
                 .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("substeps"), timestamp_writes: None });
-            for d in &plan {
+            if let Some(t) = timed {
+                pass.write_timestamp(&t.set, 0);
+            }
+            let mut next_mark = marks.iter().map(|&(k, _)| k).enumerate().peekable();
+            for (k, d) in plan.iter().enumerate() {
                 pass.set_pipeline(d.pipeline);
                 pass.set_bind_group(0, d.bind, &[]);
                 pass.dispatch_workgroups(d.groups, 1, 1);
+                if let (Some(t), Some(&(m, at))) = (timed, next_mark.peek()) {
+                    if at == k {
+                        pass.write_timestamp(&t.set, m as u32 + 1);
+                        next_mark.next();
+                    }
+                }
             }
+        }
+        if let Some(t) = timed {
+            let count = marks.len() as u32 + 1;
+            enc.resolve_query_set(&t.set, 0..count, &t.resolve, 0);
+            enc.copy_buffer_to_buffer(&t.resolve, 0, &t.read, 0, count as u64 * 8);
         }
         enc.copy_buffer_to_buffer(&b.x, 0, &b.readback, 0, xbytes);
         enc.copy_buffer_to_buffer(&b.state, 0, &b.readback, xbytes, STATE_BYTES);
@@ -785,6 +830,13 @@ impl GpuSolver {
         let has_meshes = u.n_meshes > 0;
         self.ctx.queue.submit([enc.finish()]);
         let bytes = self.read(xbytes + STATE_BYTES + pair_bytes)?;
+        let stage_times = match timed {
+            Some(t) => {
+                let ticks = map_read(&self.ctx.device, &t.read, (marks.len() as u64 + 1) * 8)?;
+                Some(timing::stage_times(&marks, bytemuck::cast_slice(&ticks), self.ctx.timestamp_period))
+            }
+            None => None,
+        };
         let (xs, rest) = bytes.split_at(xbytes as usize);
         let (st, pairs) = rest.split_at(STATE_BYTES as usize);
         let x: &[[f32; 4]] = bytemuck::cast_slice(xs);
@@ -843,9 +895,13 @@ impl GpuSolver {
             dispatches,
             ..Default::default()
         };
-        // Stages are not timed separately on the GPU (no timestamp queries): the whole frame,
-        // upload and readback included, is reported as the global step.
-        stats.timings[crate::solver::Stage::Global] = t0.elapsed().as_secs_f64();
+        match stage_times {
+            // The GPU's own time per stage (timestamps); upload and readback are outside them.
+            Some(t) => stats.timings = t,
+            // Without timestamps the whole frame, upload and readback included, is reported as
+            // the global stage.
+            None => stats.timings[crate::solver::Stage::Global] = t0.elapsed().as_secs_f64(),
+        }
         Ok(stats)
     }
 
@@ -885,20 +941,11 @@ impl GpuSolver {
     /// Maps the first `len` bytes of the readback buffer (after the submitted copies).
     fn read(&self, len: u64) -> Result<Vec<u8>, GpuFailure> {
         let b = self.buffers.as_ref().ok_or_else(|| GpuFailure::Device("buffers missing".into()))?;
-        let slice = b.readback.slice(..len);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.wait()?;
-        match rx.recv() {
-            Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(GpuFailure::Device(format!("readback failed: {e}"))),
-            Err(_) => return Err(GpuFailure::Device("readback never completed".into())),
+        let out = map_read(&self.ctx.device, &b.readback, len)?;
+        match self.take_error() {
+            Some(e) => Err(GpuFailure::Device(e)),
+            None => Ok(out),
         }
-        let out = slice.get_mapped_range().to_vec();
-        b.readback.unmap();
-        Ok(out)
     }
 
     /// Downloads the velocities into `sim` (they are not read back every frame).
@@ -955,4 +1002,22 @@ impl GpuSolver {
         self.wait()?;
         Ok(t0.elapsed().as_secs_f64())
     }
+}
+
+/// The first `len` bytes of a `MAP_READ` buffer whose copies were submitted and waited for.
+fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer, len: u64) -> Result<Vec<u8>, GpuFailure> {
+    let slice = buffer.slice(..len);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device.poll(wgpu::PollType::Wait).map_err(|e| GpuFailure::Device(e.to_string()))?;
+    match rx.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => return Err(GpuFailure::Device(format!("readback failed: {e}"))),
+        Err(_) => return Err(GpuFailure::Device("readback never completed".into())),
+    }
+    let out = slice.get_mapped_range().to_vec();
+    buffer.unmap();
+    Ok(out)
 }

@@ -16,12 +16,28 @@ use super::{
     attach, chebyshev, contacts, gauss_seidel, groups, hash, mesh_hash, predict, project_stencils, project_triangles,
     resolve_mesh, self_collide, BindGroups, Method, Pipelines, Uploaded,
 };
+use crate::solver::Stage;
 
-/// One dispatch: a stage's pipeline, its bind group and the workgroups to launch.
+/// One dispatch: a stage's pipeline, its bind group, the workgroups to launch, and the CPU
+/// step's stage it belongs to (for the per-stage times the GPU's timestamps give).
 pub(super) struct Dispatch<'a> {
     pub pipeline: &'a wgpu::ComputePipeline,
     pub bind: &'a wgpu::BindGroup,
     pub groups: u32,
+    pub stage: Stage,
+}
+
+/// Timestamp marks for a frame's plan: the first is before the first dispatch, and one
+/// follows each run of dispatches of one stage (the run's stage). Times per stage are the
+/// differences between successive marks.
+pub(super) fn stage_marks(plan: &[Dispatch<'_>]) -> Vec<(usize, Stage)> {
+    let mut marks = Vec::new();
+    for (k, d) in plan.iter().enumerate() {
+        if plan.get(k + 1).is_none_or(|next| next.stage != d.stage) {
+            marks.push((k, d.stage));
+        }
+    }
+    marks
 }
 
 /// The dispatches of one frame of `substeps` × `iterations` for the uploaded scene `u`;
@@ -37,9 +53,14 @@ pub(super) fn frame<'a>(
     mut rebuild_first: bool,
 ) -> Vec<Dispatch<'a>> {
     let n = u.n;
+    // Each dispatch counts in the stage the CPU times the same work in (`Simulation::substep`
+    // and `iterate`: contacts and projections are the local stage; the sweep, Chebyshev and
+    // self-collision the global one; resolve, velocities and the ramp the damping stage).
+    let stage = std::cell::Cell::new(Stage::Prediction);
     let mut plan = Vec::new();
-    let mut add = |pipeline, bind, groups| plan.push(Dispatch { pipeline, bind, groups });
+    let mut add = |pipeline, bind, groups| plan.push(Dispatch { pipeline, bind, groups, stage: stage.get() });
     for _ in 0..substeps {
+        stage.set(Stage::Prediction);
         if u.closing_scheduled {
             // Before `predict`, as `Simulation::predict` closes the seams first.
             add(&pl.close_seams, &g.close_seams, 1);
@@ -59,6 +80,7 @@ pub(super) fn frame<'a>(
             add(&pl.attach, &g.attach, groups(u.n_attach, attach::WORKGROUP));
         }
         for k in 0..iterations {
+            stage.set(Stage::Local);
             if u.early_stop && k > 0 {
                 add(&pl.gate, &g.gate, 1);
             }
@@ -69,6 +91,7 @@ pub(super) fn frame<'a>(
             if u.n_curved > 0 {
                 add(&pl.project_stencils, &g.project_stencils, groups(u.n_curved, project_stencils::WORKGROUP));
             }
+            stage.set(Stage::Global);
             for (c, range) in u.colours.iter().enumerate() {
                 add(&pl.gauss_seidel, &g.gauss_seidel[c], groups(range.count as usize, gauss_seidel::WORKGROUP));
             }
@@ -86,6 +109,7 @@ pub(super) fn frame<'a>(
                 add(&pl.self_apply, &g.self_apply, groups(n, wg));
             }
         }
+        stage.set(Stage::Damping);
         if u.n_meshes > 0 {
             add(&pl.resolve_mesh, &g.resolve_mesh, groups(n, resolve_mesh::WORKGROUP));
         }

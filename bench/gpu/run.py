@@ -84,6 +84,7 @@ def sample_run(name: str, backend: str, frames: int, out: Path) -> dict:
         "seam_gap_mm": last["seam_gap_max_m"] * 1e3,
         "penetration_mm": last["penetration_max_m"] * 1e3,
         "strain_max": last["strain_max"],
+        "centroid_shift_m": last["centroid_shift_m"],
         "verdict": [v["check"] for v in rep["summary"]["verdict"]],
         "adapter": rep.get("adapter"),
         "particles": None,
@@ -91,22 +92,48 @@ def sample_run(name: str, backend: str, frames: int, out: Path) -> dict:
     }
 
 
-def samples_table(names: list[str], frames: int, out: Path) -> tuple[str, str | None]:
+def agreement(g: dict, c: dict) -> str:
+    """The GPU run against the CPU run of one sample, by the bounds of the T-shirt's test
+    (`tests/test_gpu.py`): every frame on the GPU, the same verdict, and at the last frame seam
+    gaps within 0.5 mm, deepest penetrations within 2 mm, peak strain within 10 % and centroid
+    shifts within 1 cm. A sample that fails its verdict on both backends agrees; its verdict
+    column says it failed."""
+    if "error" in g or "error" in c:
+        return "not compared (a run failed)"
+    bad = []
+    if g["backends"].get("cpu"):
+        bad.append(f"{g['backends']['cpu']} frames on the CPU")
+    if g["verdict"] != c["verdict"]:
+        bad.append(f"verdict {g['verdict'] or 'passes'} vs {c['verdict'] or 'passes'}")
+    if abs(g["seam_gap_mm"] - c["seam_gap_mm"]) >= 0.5:
+        bad.append(f"seam gap {g['seam_gap_mm']:.2f} vs {c['seam_gap_mm']:.2f} mm")
+    if abs(g["penetration_mm"] - c["penetration_mm"]) >= 2.0:
+        bad.append(f"penetration {g['penetration_mm']:.2f} vs {c['penetration_mm']:.2f} mm")
+    if abs(g["strain_max"] - c["strain_max"]) >= 0.1 * c["strain_max"]:
+        bad.append(f"strain {g['strain_max']:.3f} vs {c['strain_max']:.3f}")
+    if abs(g["centroid_shift_m"] - c["centroid_shift_m"]) >= 0.01:
+        bad.append(f"centroid {g['centroid_shift_m'] * 100:.1f} vs {c['centroid_shift_m'] * 100:.1f} cm")
+    return "agrees" if not bad else "differs: " + "; ".join(bad)
+
+
+def samples_table(names: list[str], frames: int, out: Path) -> tuple[str, str | None, bool]:
     rows = ["| sample | backend | frames solved (cpu / gpu) | ms/frame, assembled (median) | seam gap, mm | "
-            "penetration, mm | strain max | verdict |", "|---|---|---|---:|---:|---:|---:|---|"]
-    adapter = None
+            "penetration, mm | strain max | verdict | GPU against CPU |", "|---|---|---|---:|---:|---:|---:|---|---|"]
+    adapter, all_agree = None, True
     for name in names:
-        for backend in ("gpu", "cpu"):
-            r = sample_run(name, backend, frames, out)
+        runs = {backend: sample_run(name, backend, frames, out) for backend in ("gpu", "cpu")}
+        agree = agreement(runs["gpu"], runs["cpu"])
+        all_agree &= agree == "agrees"
+        for backend, r in runs.items():
             if "error" in r:
-                rows.append(f"| {name} | {backend} | failed: {' '.join(r['error'])} | | | | | |")
+                rows.append(f"| {name} | {backend} | failed: {' '.join(r['error'])} | | | | | | |")
                 continue
             adapter = adapter or r["adapter"]
             b = r["backends"]
             rows.append(f"| {name} | {backend} | {b.get('cpu', 0)} / {b.get('gpu', 0)} | {r['ms_median']:.1f} | "
                         f"{r['seam_gap_mm']:.2f} | {r['penetration_mm']:.2f} | {r['strain_max']:.3f} | "
-                        f"{', '.join(r['verdict']) or 'passes'} |")
-    return "\n".join(rows) + "\n", adapter
+                        f"{', '.join(r['verdict']) or 'passes'} | {agree if backend == 'gpu' else ''} |")
+    return "\n".join(rows) + "\n", adapter, all_agree
 
 
 def main(argv=None) -> int:
@@ -122,7 +149,7 @@ def main(argv=None) -> int:
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     before = machine()
     solver = solver_table(args.sizes, args.budget) if args.sizes else ""
-    samples, adapter = samples_table([s for s in args.samples.split(",") if s], args.frames, out)
+    samples, adapter, agree = samples_table([s for s in args.samples.split(",") if s], args.frames, out)
     text = (f"# bench-gpu\n\nCommand: `python bench/gpu/run.py {' '.join(argv or sys.argv[1:])}` ({started}, commit "
             f"{commit()}). Machine: {before}; at the end: {machine()}. GPU adapter: {adapter or 'none'}.\n\n"
             f"## The solver alone, body and self collision\n\n{solver}\n"
@@ -131,7 +158,9 @@ def main(argv=None) -> int:
     (out / "bench-gpu.md").write_text(text)
     print(text)
     print(f"wrote {out / 'bench-gpu.md'}")
-    return 0
+    if not agree:
+        print("bench-gpu: a sample on the GPU differs from the CPU beyond the stated bounds (see the table)")
+    return 0 if agree else 1
 
 
 if __name__ == "__main__":

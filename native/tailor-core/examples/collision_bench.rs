@@ -47,7 +47,7 @@ fn two_layers(centre: Vec3) -> ClothMesh {
 
 /// Runs `frames` measured frames after `warm` frames; returns per-frame averages of the
 /// stage timings (ms) and the last step's statistics.
-fn run(body: &(Vec<[f32; 3]>, Vec<[u32; 3]>), scene: Scene, warm: usize, frames: usize) -> ([f64; 9], StepStats) {
+fn run(body: &(Vec<[f32; 3]>, Vec<[u32; 3]>), scene: Scene, warm: usize, frames: usize) -> ([f64; 9], StepStats, u64) {
     let (bv, bt) = body;
     let top = bv.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
     // Shoulders are about 0.25 m below the top of the head; start the cloth just above them.
@@ -93,7 +93,7 @@ fn run(body: &(Vec<[f32; 3]>, Vec<[u32; 3]>), scene: Scene, warm: usize, frames:
         last = s;
     }
     let _ = t_all;
-    (acc, last)
+    (acc, last, sim.state_hash())
 }
 
 fn print_row(name: &str, t: &[f64; 9], s: &StepStats) {
@@ -143,12 +143,21 @@ fn main() {
             "moving body, self search every pass",
             Scene { skips: CollisionSkips { reuse_self_pairs: false, ..all }, ..base },
         ),
+        (
+            "moving body, no mesh broad phase",
+            Scene { skips: CollisionSkips { mesh_broad_phase: false, ..all }, ..base },
+        ),
         ("moving body, self-collision off", Scene { self_on: false, ..base }),
+        (
+            "moving body, self off, no mesh broad phase",
+            Scene { self_on: false, skips: CollisionSkips { mesh_broad_phase: false, ..all }, ..base },
+        ),
         ("no body (no collider hash)", Scene { body: false, ..base }),
     ];
     let only = args.get(3).cloned().unwrap_or_default();
     for (name, scene) in cases.into_iter().filter(|(n, _)| n.contains(only.as_str())) {
-        let (t, s) = run(&body, scene, 10, frames);
+        let (t, s, hash) = run(&body, scene, 10, frames);
         print_row(name, &t, &s);
+        println!("{name:<34} state hash {hash:016x}");
     }
 }

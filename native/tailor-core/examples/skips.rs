@@ -8,7 +8,8 @@
 //!
 //! Skips: sleeping at rest (`solver/sleep.rs`), early termination at the tolerance, keeping
 //! the matrix and colouring while the topology does not change, keeping a still collider's
-//! hash, culling collider triangles far from the cloth. The body scenes need the shared data
+//! hash, culling collider triangles far from the cloth, the iterations' broad phase against
+//! mesh colliders (`collide/mesh_broad_phase.rs`). The body scenes need the shared data
 //! and are skipped without it.
 
 mod common;
@@ -213,6 +214,11 @@ fn main() {
             "far triangles culled: shirt, walking body",
             true,
             CollisionSkips { cull_far_triangles: false, ..Default::default() },
+        ),
+        (
+            "mesh broad phase: shirt, walking body",
+            true,
+            CollisionSkips { mesh_broad_phase: false, ..Default::default() },
         ),
     ] {
         if !run(name) {

@@ -319,6 +319,50 @@ fn skips_do_not_change_results() {
     println!("moving: culling {s_cull:?}");
     assert_eq!(h_cull, h_nocull, "culling far triangles changed the result");
     assert!(s_cull.2 > 320, "the far collider was not culled: {s_cull:?}");
+    let (h_all, _) = run_with(all, true);
+    let (h_test_all, _) = run_with(CollisionSkips { mesh_broad_phase: false, ..all }, true);
+    assert_eq!(h_all, h_test_all, "the iterations' broad phase changed the result");
+}
+
+/// The iterations' broad phase against mesh colliders is exact (`mesh_broad_phase.rs`): a
+/// particle skipped because it stayed free within its radius, or tested against its nearest
+/// candidate alone, gets the answer the full test would give. On a cloth draped over a moving
+/// sphere, where some particles rest on it and others hover, testing every candidate of every
+/// particle in every iteration gives the same positions bit for bit, while the broad phase
+/// spares most of the full tests.
+#[test]
+fn the_mesh_broad_phase_spares_tests_without_changing_contacts() {
+    let (sv, st) = icosphere(3, 0.3, Vec3::ZERO);
+    let run_with = |broad: bool| {
+        let (p, r, t) = cloth_grid(0.8, 24, 0.05, 0.0, 0.33);
+        let mut sim = sim_of(p, r, t, SolverSettings::default());
+        sim.set_collision_skips(CollisionSkips { mesh_broad_phase: broad, ..Default::default() });
+        let id = sim.add_mesh_collider(&sv, &st, MeshColliderOptions::default()).unwrap();
+        let (mut n, mut contacts) = ([0u64; 3], 0usize);
+        for f in 1..=30 {
+            let off = Vec3::new(0.004 * f as f32, 0.0, 0.002 * (f as f32 * 0.7).sin());
+            let m: Vec<[f32; 3]> = sv.iter().map(|v| (Vec3::from(*v) + off).into()).collect();
+            sim.set_collider_positions(id, &m).unwrap();
+            let s = sim.step(1.0 / FPS).unwrap();
+            n[0] += s.collision.contact_tests;
+            n[1] += s.collision.contact_skips;
+            n[2] += s.collision.contact_nearest;
+            contacts = contacts.max(s.collision.mesh_contacts);
+        }
+        (sim.state_hash(), n, contacts)
+    };
+    let (h_broad, [tests, skips, nearest], contacts) = run_with(true);
+    let (h_all, [all_tests, all_skips, all_nearest], _) = run_with(false);
+    println!(
+        "broad phase: {tests} full tests, {skips} skipped, {nearest} against the nearest alone, up to {contacts} \
+         contacts; without: {all_tests} full tests"
+    );
+    assert_eq!(h_broad, h_all, "the broad phase changed the result");
+    assert_eq!((all_skips, all_nearest), (0, 0));
+    assert_eq!(tests + skips + nearest, all_tests, "both runs test the same particle-iterations");
+    assert!(contacts > 100, "the scene has too few contacts to mean anything ({contacts})");
+    assert!(tests < all_tests / 3, "the broad phase spared only {} of {all_tests} full tests", all_tests - tests);
+    assert!(skips > 0 && nearest > 0, "one kind of reuse never happened: {skips} skipped, {nearest} nearest");
 }
 
 #[test]

@@ -165,6 +165,25 @@ where
     nearest_feature_contact(p, thickness, || tris.iter().copied())
 }
 
+/// Whether the point of barycentrics `bary` on triangle `[a, b, c]` lies on (or within a few
+/// [`SHARED_FEATURE`] of) one of its edges, where another triangle can share it: the distance
+/// to the edge opposite corner i is `wᵢ·2A/‖eᵢ‖`.
+#[inline]
+pub fn on_shared_feature([a, b, c]: [Vec3; 3], bary: [f32; 3]) -> bool {
+    let twice_area = (b - a).cross(c - a).length();
+    let edges = [(c - b).length(), (a - c).length(), (b - a).length()];
+    (0..3).any(|i| bary[i] * twice_area <= 2.0 * SHARED_FEATURE * edges[i])
+}
+
+/// The distance from the point of barycentrics `bary` on triangle `[a, b, c]` to the nearest
+/// of its edges, in its plane (`wᵢ·2A/‖eᵢ‖`, the least over i).
+#[inline]
+pub fn distance_to_edges([a, b, c]: [Vec3; 3], bary: [f32; 3]) -> f32 {
+    let twice_area = (b - a).cross(c - a).length();
+    let edges = [(c - b).length(), (a - c).length(), (b - a).length()];
+    (0..3).map(|i| bary[i] * twice_area / edges[i].max(f32::MIN_POSITIVE)).fold(f32::INFINITY, f32::min)
+}
+
 /// The rule of [`particle_vs_cell`] over candidates given as `(triangle, corners, unit
 /// normal)` (degenerate ones left out); `candidates` is called up to three times and must
 /// give the same sequence each time. Three passes, so that most particles leave after the
@@ -179,20 +198,40 @@ where
     F: Fn() -> I,
     I: Iterator<Item = (u32, [Vec3; 3], Vec3)>,
 {
+    nearest_feature_contact_or_clearance(p, thickness, candidates).ok().flatten()
+}
+
+/// [`nearest_feature_contact`], telling apart the case where `p` is in front of every
+/// candidate's offset plane: `Err(clearance)`, the least `side − thickness` over the
+/// candidates (infinite without any). Every side `(p − a)·n` changes by at most `|Δp|` when `p`
+/// moves (unit normals), so while `p` moves less than the clearance among the same candidates,
+/// the answer stays "no contact" without being computed again (the mesh colliders' broad
+/// phase, `MeshCollider::contact_or_clearance`). `Ok` is the rule's answer otherwise.
+#[inline]
+pub fn nearest_feature_contact_or_clearance<F, I>(
+    p: Vec3,
+    thickness: f32,
+    candidates: F,
+) -> std::result::Result<Option<Contact>, f32>
+where
+    F: Fn() -> I,
+    I: Iterator<Item = (u32, [Vec3; 3], Vec3)>,
+{
     // The candidate whose plane is nearest seeds the search: its distance bounds the rest.
-    let mut any_behind = false;
+    let mut least_side = f32::INFINITY;
     let mut seed: Option<(f32, u32, [Vec3; 3], Vec3)> = None;
     for (t, tri, n) in candidates() {
         let side = (p - tri[0]).dot(n);
-        any_behind |= side < thickness;
+        least_side = least_side.min(side);
         if seed.is_none_or(|(s, ..)| side.abs() < s) {
             seed = Some((side.abs(), t, tri, n));
         }
     }
-    let (_, t0, [a0, b0, c0], n0) = seed?;
-    if !any_behind {
-        return None;
+    // In front of every offset plane (or no candidate at all): free.
+    if !(least_side < thickness) {
+        return Err(least_side - thickness);
     }
+    let Some((_, t0, [a0, b0, c0], n0)) = seed else { return Ok(None) };
     let (q0, bary0) = closest_point_on_triangle(p, a0, b0, c0);
     let mut best = (q0.distance_squared(p), t0, q0, bary0, n0);
     let mut best_tri = [a0, b0, c0];
@@ -215,28 +254,22 @@ where
     let (d2, triangle, closest, bary, normal) = best;
     let depth = thickness - (p - closest).dot(normal);
     if depth <= 0.0 {
-        return None;
+        return Ok(None);
     }
     // Only a closest point on (or within a few SHARED_FEATURE of) an edge of its triangle can
     // be shared: the distance to the edge opposite corner i is wᵢ·2A/‖eᵢ‖.
-    let on_feature = {
-        let [a, b, c] = best_tri;
-        let twice_area = (b - a).cross(c - a).length();
-        let edges = [(c - b).length(), (a - c).length(), (b - a).length()];
-        (0..3).any(|i| bary[i] * twice_area <= 2.0 * SHARED_FEATURE * edges[i])
-    };
-    if on_feature {
+    if on_shared_feature(best_tri, bary) {
         for (_, [a, b, c], n) in candidates() {
             let side = (p - a).dot(n);
             if side < thickness || side > d2.sqrt() + SHARED_FEATURE {
                 continue;
             }
             if closest_point_on_triangle(p, a, b, c).0.distance_squared(closest) <= SHARED_FEATURE * SHARED_FEATURE {
-                return None;
+                return Ok(None);
             }
         }
     }
-    Some(Contact { triangle, closest, bary, normal, target: p + normal * depth, depth })
+    Ok(Some(Contact { triangle, closest, bary, normal, target: p + normal * depth, depth }))
 }
 
 #[cfg(test)]

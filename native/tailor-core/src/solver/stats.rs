@@ -71,4 +71,10 @@ pub struct CollisionStats {
     /// Hash searches of the self-collision passes (a search serves passes until a particle
     /// has moved half the search margin).
     pub self_searches: u32,
+    /// Particle-vs-mesh tests the iterations ran in full; those the broad phase skipped (a
+    /// particle still free within the radius of its last test); and those it ran against the
+    /// particle's nearest candidate alone (`mesh_broad_phase.rs`).
+    pub contact_tests: u64,
+    pub contact_skips: u64,
+    pub contact_nearest: u64,
 }

@@ -19,7 +19,7 @@ use glam::Vec3;
 
 use super::levels::{levels_collide, triangle_levels_from_vertices};
 use crate::collision::collider_hash::{keeps_cell, InsertionRule};
-use crate::collision::geometry::{closest_point_on_triangle, nearest_feature_contact, triangle_normal, Contact};
+use crate::collision::geometry::{closest_point_on_triangle, triangle_normal, Contact};
 use crate::collision::hash::{cell_of, segment_cells, Cell, SpatialHash};
 use crate::error::{Result, TailorError};
 use crate::mesh::check_finite3;
@@ -78,11 +78,11 @@ pub(crate) struct MeshCollider {
     pub vel: Vec<Vec3>,
     /// Whether the collider moves during the current frame.
     pub moving: bool,
-    hash: SpatialHash,
+    pub(super) hash: SpatialHash,
     /// Triangles filed in `hash` (hash entries index this list).
-    kept: Vec<u32>,
+    pub(super) kept: Vec<u32>,
     /// Unit normal of each kept triangle at `cur` (zero for zero-area ones), by hash entry.
-    normals: Vec<Vec3>,
+    pub(super) normals: Vec<Vec3>,
     /// Cloth box the hash was culled for (`None` = no valid hash).
     built_for: Option<(Vec3, Vec3)>,
 }
@@ -333,21 +333,7 @@ impl MeshCollider {
     /// cached at the build.
     #[inline]
     pub fn contact(&self, p: Vec3, level: i32, thickness: f32) -> Option<Contact> {
-        if self.kept.is_empty() {
-            return None;
-        }
-        let cands = || {
-            self.hash
-                .query_cell(self.hash.cell_of(p.into()))
-                .filter(|&k| levels_collide(level, self.tri_level[self.kept[k as usize] as usize]))
-        };
-        nearest_feature_contact(p, thickness, || {
-            cands().filter_map(|k| {
-                let n = self.normals[k as usize];
-                let t = self.kept[k as usize];
-                (n != Vec3::ZERO).then(|| (t, self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize])), n))
-            })
-        })
+        self.test_for_reuse(p, level, thickness, false).0
     }
 
     /// Where the motion `from → to` of a particle over a substep first passes through the

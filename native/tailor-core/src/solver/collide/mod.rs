@@ -16,6 +16,7 @@
 
 pub mod contacts;
 pub mod levels;
+pub(crate) mod mesh_broad_phase;
 pub(crate) mod mesh_collider;
 pub(crate) mod self_collide;
 pub(crate) mod shape_check;
@@ -42,11 +43,14 @@ pub struct CollisionSkips {
     /// Search self-collision pairs with a margin and keep the list while particles move
     /// less than half of it (see `self_collide.rs`).
     pub reuse_self_pairs: bool,
+    /// Skip or shorten a particle's mesh-collider test in an iteration while it stays within
+    /// the radius its last test found (`mesh_broad_phase.rs`).
+    pub mesh_broad_phase: bool,
 }
 
 impl Default for CollisionSkips {
     fn default() -> Self {
-        Self { reuse_still_colliders: true, cull_far_triangles: true, reuse_self_pairs: true }
+        Self { reuse_still_colliders: true, cull_far_triangles: true, reuse_self_pairs: true, mesh_broad_phase: true }
     }
 }
 
@@ -55,6 +59,9 @@ impl Default for CollisionSkips {
 pub(crate) struct Collisions {
     /// Each contact's push against the cloth this substep ([`Simulation::contact_pushes`]).
     pub(crate) pushes: Vec<f32>,
+    /// The iterations' broad phase against the mesh colliders (`mesh_broad_phase.rs`): per
+    /// particle, what its last test in this substep leaves for the next iterations.
+    pub(crate) reuse: Vec<mesh_broad_phase::Reuse>,
     pub(crate) meshes: Vec<MeshCollider>,
     pub(crate) levels: Vec<i32>,
     pub(crate) friction: Option<(Vec<f32>, Vec<f32>)>,

@@ -28,9 +28,11 @@ use super::Simulation;
 use crate::error::{Result, TailorError};
 use crate::solver::collide::contacts::CONTACT_WEIGHT_FACTOR;
 use crate::solver::collide::levels;
+use crate::solver::collide::mesh_broad_phase::{rounding_margin, Reuse, FREE};
 use crate::solver::collide::mesh_collider::MeshCollider;
 use crate::solver::collide::self_collide::PassInput;
 use crate::solver::collide::{ColliderId, CollisionSkips, MeshColliderOptions, SelfCollisionSettings, MESH_CONTACT};
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// Box of the positions `a ∪ b`.
 fn box_of(a: &crate::solver::model::soa::Vec3Soa, b: &crate::solver::model::soa::Vec3Soa) -> (Vec3, Vec3) {
@@ -202,7 +204,71 @@ impl Simulation {
             culled += out.culled;
         }
         (c.stats.triangles_kept, c.stats.triangles_culled) = (kept, culled);
+        // New positions for the colliders (or new culling): every particle is tested again.
+        c.reuse.clear();
+        c.reuse.resize(self.x.len(), Reuse::default());
         c.stats.hash_seconds += t0.elapsed().as_secs_f64();
+    }
+
+    /// The iterations' test of every particle against the mesh colliders, with a broad phase
+    /// that is exact (`mesh_broad_phase.rs`): within a substep the colliders do not move, and a
+    /// particle that stayed within the radius its last test found is free without a test, or is
+    /// tested against its nearest candidate alone. With several mesh colliders only the first
+    /// kind applies (the least radius over them). The contacts are exactly those of testing
+    /// every candidate of every particle in every iteration. `None` for pinned or free
+    /// particles.
+    fn mesh_contacts_of_iteration(&mut self) -> Vec<Option<(u32, crate::collision::Contact)>> {
+        let (x, meshes, levels, pinned, th) =
+            (&self.x, &self.collide.meshes, &self.collide.levels, &self.model.pinned, self.thickness);
+        let broad_phase = self.collide.skips.mesh_broad_phase;
+        let one = meshes.len() == 1;
+        let mut reuse = std::mem::take(&mut self.collide.reuse);
+        reuse.resize(x.len(), Reuse::default());
+        let (skipped, nearest) = (AtomicU64::new(0), AtomicU64::new(0));
+        let found = reuse
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(512)
+            .map(|(i, r)| {
+                if pinned[i] {
+                    return None;
+                }
+                let p = x.get(i);
+                if broad_phase && r.radius > 0.0 && p.distance_squared(Vec3::from(r.at)) < r.radius * r.radius {
+                    if r.nearest == FREE {
+                        skipped.fetch_add(1, Relaxed);
+                        return None;
+                    }
+                    if let Some(hit) = meshes[0].test_nearest(p, r.nearest, th) {
+                        nearest.fetch_add(1, Relaxed);
+                        return hit.map(|h| (0, h));
+                    }
+                }
+                let mut best: Option<(u32, crate::collision::Contact)> = None;
+                let (mut radius, mut near) = (f32::INFINITY, FREE);
+                for (k, m) in meshes.iter().enumerate() {
+                    let (hit, rad, tri) = m.test_for_reuse(p, levels[i], th, broad_phase);
+                    radius = radius.min(rad);
+                    if tri != FREE {
+                        // Resting on one collider's nearest triangle is a reuse for one collider only.
+                        (radius, near) = if one { (radius, tri) } else { (0.0, FREE) };
+                    }
+                    if let Some(hit) = hit {
+                        if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
+                            best = Some((k as u32, hit));
+                        }
+                    }
+                }
+                *r = Reuse { at: p.into(), radius: radius - rounding_margin(p), nearest: near };
+                best
+            })
+            .collect();
+        self.collide.reuse = reuse;
+        let (skipped, nearest) = (skipped.into_inner(), nearest.into_inner());
+        self.collide.stats.contact_skips += skipped;
+        self.collide.stats.contact_nearest += nearest;
+        self.collide.stats.contact_tests += x.len() as u64 - skipped - nearest;
+        found
     }
 
     /// The deepest mesh contact of every particle at the current positions:
@@ -254,7 +320,7 @@ impl Simulation {
             return;
         }
         let t0 = Instant::now();
-        let found = self.find_mesh_contacts(false);
+        let found = self.mesh_contacts_of_iteration();
         for (i, hit) in found.into_iter().enumerate() {
             let cs = &mut self.contacts;
             let analytic = cs.weight[i] > 0.0 && cs.collider[i] & MESH_CONTACT == 0;

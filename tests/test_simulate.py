@@ -134,26 +134,59 @@ def test_a_sample_garment_file_simulates_with_its_own_settings(tmp_path):
     warning in the report."""
     character = SAMPLES / "character.glb"
     report = tmp_path / "tshirt.json"
-    # 45 frames: `simulate` plays the walk from the first frame, with no assembly at rest, and
-    # the T-shirt's last seam pair stops 4.4 mm apart, so the pins wait for the ramp's stall
-    # release (frame 44; measured 2026-11-26).
-    r = cli("simulate", SAMPLES / "tshirt.json", "--collider", character, "--frames", "45", "--report", report)
+    # The garment assembles at the character's rest pose first (the add-on's preroll and
+    # transition, not recorded): its seams meet there and the pins ride from the first frame.
+    r = cli("simulate", SAMPLES / "tshirt.json", "--collider", character, "--frames", "3", "--report", report)
     assert r.returncode == 0, r.stderr
     rep = json.loads(report.read_text())
     assert rep["attached"] > 0 and rep["pins_attached"] and not rep["warnings"], {k: rep[k] for k in rep if k != "frames"}
     assert rep["thickness_m"] == pytest.approx(0.004) and rep["self_collision"] is False
+    # Assembled on the first frame's pose, recorded (no preroll): one frame ends while the seams
+    # still close, "open".
     r = cli("simulate", SAMPLES / "layered.json", "--collider", character, "--frames", "1", "--report", report,
-            "--thickness", "0.005")
+            "--thickness", "0.005", "--assemble-at", "start")
     assert r.returncode == 3, r.stderr  # one frame ends while the seams still close: "open"
     rep = json.loads(report.read_text())
     assert rep["self_collision"] and rep["self_collision_radius_m"] == pytest.approx(0.005, rel=0.05)
     assert rep["self_collision_friction"] == [pytest.approx(0.6), pytest.approx(0.4)]
     assert rep["thickness_m"] == pytest.approx(0.005) and "self-collision on" in r.stdout
     r = cli("simulate", SAMPLES / "tshirt.json", "--collider", character, "--frames", "1", "--report", report,
-            "--edge", "0.03")
+            "--edge", "0.03", "--assemble-at", "start")
     assert r.returncode == 3, r.stderr
     rep = json.loads(report.read_text())
     assert rep["attached"] == 0 and any("painted 'pin'" in w and "left out" in w for w in rep["warnings"]), rep["warnings"]
+
+
+def test_an_animated_collider_assembles_at_its_rest_pose_first(tmp_path):
+    """Issue 24: `tailor simulate` assembles as the add-on's Bake does (its Preroll, Transition
+    and Assemble Without Gravity defaults): on an animated collider the garment is sewn at the
+    rest pose its patterns were placed for, then the body moves into the clip's first frame, and
+    only then are frames recorded. The trousers, placed for the rest pose, have their back
+    piece through the calf in the walk's first pose: assembled there (`--assemble-at start`, the
+    command's only behaviour before), 9-10 particles stay 29 mm inside the body from frame 1
+    and the verdict fails "inside"; assembled at rest, nothing is deeper than 5 mm and it passes.
+    (Measured 2026-11-26: 9 particles, 29.0 mm, inside from frame 1, on both backends.)"""
+    character = SAMPLES / "character.glb"
+    report = tmp_path / "trousers.json"
+    r = cli("simulate", SAMPLES / "trousers.json", "--collider", character, "--frames", "3", "--report", report)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr
+    rep = json.loads(report.read_text())
+    assert rep["assembly"]["at"] == "rest" and rep["assembly"]["gravity"] is False, rep["assembly"]
+    assert rep["assembly"]["preroll_frames"] >= 60 and rep["assembly"]["transition_frames"] == 40, rep["assembly"]
+    assert "assembly at the rest pose" in r.stdout
+    for f in rep["frames"]:
+        # Measured: none inside at frame 1, then 1-2 particles 3-4.4 mm deep as the walk starts.
+        assert f["penetration_max_m"] < 0.005 and not f["seams_closing"] and f["seam_gap_max_m"] < 1e-3, f
+    assert rep["summary"]["verdict"] == []
+    # A still collider has one pose: the garment assembles on it, recorded, as before.
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=1)
+    garment = SAMPLES / "tshirt.json"
+    r = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", report)
+    assert json.loads(report.read_text())["assembly"] == {"at": "start", "preroll_frames": 0, "transition_frames": 0,
+                                                          "gravity": True}
+    r = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", report, "--preroll", "-1")
+    assert r.returncode == 2 and "--preroll -1" in r.stderr, r.stderr
 
 
 def test_painted_pins_attach_in_proportion_to_their_weight():

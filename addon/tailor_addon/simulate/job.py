@@ -90,7 +90,7 @@ class BakeJob:
         self.adapter = built.adapter
         transition = s.transition if assembly is not None else 0
         self.fingerprint = _fingerprint(self.settings, garment, colliders, self.start, f"{s.preroll}/{transition}")
-        gravity = (0.0, 0.0, 0.0) if s.assemble_without_gravity else None
+        gravity = bake.ASSEMBLY_GRAVITY if s.assemble_without_gravity else None
         self.fingerprint += f"/{gravity}"
         self.run = bake.Bake(built.sim, built.colliders, self.settings.fps, self.start, s.preroll, assembly, transition,
                              gravity, pins=built.pins)

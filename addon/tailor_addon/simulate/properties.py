@@ -14,6 +14,7 @@ from bpy.props import (
 )
 
 import tailor
+from tailor import bake
 
 from ..core.simulate import PRESETS, preset_values
 
@@ -145,7 +146,7 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     frame_end: IntProperty(name="End", default=48)
     preroll: IntProperty(
         name="Preroll", description="Frames solved at the start frame before it is recorded (the garment "
-        "assembles first; more while its seams are still closing, up to 10 s)", min=0, default=60,
+        "assembles first; more while its seams are still closing, up to 10 s)", min=0, default=bake.DEFAULT_PREROLL,
     )
     assemble_at_rest: BoolProperty(
         name="Assemble at Rest Pose", description="Assemble during the preroll with every armature in its rest "
@@ -159,7 +160,7 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     )
     transition: IntProperty(
         name="Transition", description="Frames moving the colliders from the rest pose to the start frame's",
-        min=0, default=40,
+        min=0, default=bake.DEFAULT_TRANSITION,
     )
     cache_dir: StringProperty(
         name="Cache Folder", description="Where PC2 caches go (// = beside the .blend)", default="//tailor_cache",

@@ -42,6 +42,14 @@ from tailor._tailor import (VERDICT_THRESHOLDS, CancelledError, InvalidParameter
                             check_playback, judge, judge_unfinished, write_pc2)
 
 #: Quality fields of a frame record, each worst-case (largest) over frames in a summary.
+#: The assembly's defaults, the add-on's and ``tailor simulate``'s alike: at least this many
+#: frames at the rest pose before the start frame (more while the seams close), then this many
+#: frames moving the colliders from it into the start frame's pose, without gravity while the
+#: seams close at rest (open seams have nothing to hang on).
+DEFAULT_PREROLL = 60
+DEFAULT_TRANSITION = 40
+ASSEMBLY_GRAVITY = (0.0, 0.0, 0.0)
+
 #: The longest an assembly at the rest pose may go on while its seams are still closing, seconds
 #: (a safety net: the ramp ends its closing phase by itself when the seams meet or stall).
 ASSEMBLY_MAX_S = 10.0

@@ -3,6 +3,7 @@
     python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE | --animation NAME]
         --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
         [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd] [--obj-dir DIR]
+        [--assemble-at rest|start] [--preroll N] [--transition N] [--assembly-gravity]
 
 MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or the one
 ``--animation`` names); CACHE is a PC2 file of the collider's vertex positions per frame (both
@@ -11,8 +12,18 @@ Gravity points down the up axis: Y for OBJ and glTF files by their convention, Z
 unless ``--up`` says. A garment file that states its up axis (``setup["up"]``: the add-on's
 exports say Z, Blender's) and a collider with the other one agree by turning the collider into
 the garment's coordinates (``tailor.motion.turn_up``, as Blender's glTF importer does); gravity
-and every output (caches, USD's up axis) are then in the garment's. The garment assembles (its seams close under the damping ramp) and
-follows the collider. The report holds one record per frame
+and every output (caches, USD's up axis) are then in the garment's. The garment assembles (its
+seams close under the damping ramp) and follows the collider.
+
+The assembly is the add-on's Bake's (``tailor.bake.Bake``'s preroll and transition, with its
+defaults): on an animated collider the garment is sewn at the collider's rest pose, the pose its
+patterns were placed for, for at least ``--preroll`` frames (60) and on while its seams close (up
+to 10 s), without gravity unless ``--assembly-gravity``; then ``--transition`` frames (40) move
+the collider into the first frame's pose; frame 0 is the garment as it enters the motion.
+Sewing on the motion's first pose instead put the sample trousers' back piece through the
+calf (29 mm inside the body for good). A still collider has one pose: by default the assembly
+runs in the recorded frames (no preroll). ``--assemble-at start`` assembles on the first frame's
+pose. The report holds one record per frame
 and a summary of the same fields (worst case over the frames, mean frame time).
 
 Every frame is judged by ``tailor.judge`` against the garment as placed (frame 0): whether it
@@ -54,6 +65,7 @@ import json
 import os
 from pathlib import Path
 
+from tailor import bake
 from tailor.bake import FIELDS  # noqa: F401  (the report fields, kept importable from here)
 
 #: Exit status of a run that finished but whose result fails its own checks (fell, open, inside).
@@ -80,6 +92,21 @@ def register(sub):
     p.add_argument("--resume", action="store_true",
                    help="go on from the frames already in -o (solved again and checked, then continued)")
     p.add_argument("--edge", type=float, help="re-triangulate every piece at this edge length first")
+    p.add_argument("--assemble-at", choices=("rest", "start"), default=None,
+                   help="the collider's pose while the garment assembles: its rest pose (as stored; patterns are "
+                        "placed for it), then --transition frames into the first frame's; or the first frame's. "
+                        "Default: rest for an animated collider (a glTF clip or --collider-anim), start for a still "
+                        "one (its only pose)")
+    p.add_argument("--preroll", type=int, default=None,
+                   help=f"frames solved at the assembly pose before frame 0 is recorded, more while the seams still "
+                        f"close, up to {int(bake.ASSEMBLY_MAX_S)} s (default {bake.DEFAULT_PREROLL} when assembling at "
+                        f"rest, as the add-on's Preroll; 0 at the start pose: the assembly is recorded)")
+    p.add_argument("--transition", type=int, default=bake.DEFAULT_TRANSITION,
+                   help=f"frames moving the collider from the rest pose into the first frame's (default "
+                        f"{bake.DEFAULT_TRANSITION}, as the add-on's)")
+    p.add_argument("--assembly-gravity", action="store_true",
+                   help="keep gravity during the preroll (default: none while the garment assembles at rest, as the "
+                        "add-on's Assemble Without Gravity)")
     p.add_argument("--preset", choices=("preview", "final"), default="final",
                    help="quality preset: substeps, iterations and tolerance (default final, as the add-on)")
     p.add_argument("--substeps", type=int, help="solver substeps per frame (default: the preset's)")
@@ -128,7 +155,15 @@ def run(args):
         motion.turn(collider_up, up)
         print(f"simulate: the collider is {collider_up.upper()} up and the garment {up.upper()} up: the collider is "
               f"turned into the garment's coordinates", flush=True)
-    d = dressing.dress(garment, motion.at(0), motion.triangles, settings=settings, backend=args.backend,
+    # The assembly (tailor.bake.Bake's preroll and transition), as the add-on's Bake: at the
+    # rest pose the patterns were placed for when the collider moves, then into the first frame.
+    at_rest = (args.assemble_at or ("start" if motion.kind == "static" else "rest")) == "rest"
+    preroll = args.preroll if args.preroll is not None else (bake.DEFAULT_PREROLL if at_rest else 0)
+    for name, v in (("--preroll", preroll), ("--transition", args.transition)):
+        if v < 0:
+            raise tailor.InvalidParameterError(f"{name} {v}: a number of frames is at least 0")
+    pose0 = motion.rest if at_rest else motion.at(0)
+    d = dressing.dress(garment, pose0, motion.triangles, settings=settings, backend=args.backend,
                        thickness=args.thickness, self_collision=args.self_collision, collider_friction=None,
                        strict=False)
     sim, cid, pins = d.sim, d.collider, d.pins
@@ -140,10 +175,19 @@ def run(args):
           f"{setup['thickness_m'] * 1e3:g} mm, self-collision {'on' if setup['self_collision'] else 'off'}, "
           f"{settings.substeps} substeps x {settings.iterations} iterations ({args.preset}), "
           f"{setup['attached']} pinned particles")
-    # Frame 0 is the garment as placed; frames 1..N are one step each (tailor.bake.Bake).
+    transition = args.transition if at_rest else 0
+    gravity0 = None if args.assembly_gravity or preroll == 0 else bake.ASSEMBLY_GRAVITY
+    print(f"simulate: assembly at the {'rest pose' if at_rest else 'first frame'}: at least {preroll} frames"
+          f"{' without gravity' if gravity0 else ''}, more while the seams close"
+          + (f", then {transition} frames into the first frame" if transition else ""), flush=True)
+    # Frame 0 is the garment after its assembly (as placed when there is none); frames 1..N are
+    # one step each (tailor.bake.Bake).
     run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0,
-                    pins=pins if len(pins.particles) else None)
+                    preroll=preroll, assembly=[motion.rest] if at_rest else None, transition=transition,
+                    assembly_gravity=gravity0, pins=pins if len(pins.particles) else None)
     run.step([motion.at(0)])
+    assembly = {"at": "rest" if at_rest else "start", "preroll_frames": run.preroll_frames,
+                "transition_frames": transition, "gravity": gravity0 is None}
     at = lambda f: [motion.at(f - 1)]  # noqa: E731  (frame f: the collider at the motion's frame f - 1)
     frames = []
     cache = None
@@ -173,7 +217,7 @@ def run(args):
         summary = bake.summarize(frames)
         doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
                "adapter": sim.adapter, "gpu_setup": sim.gpu_setup, **setup, "pins_attached": bool(pins.attached), "up": up,
-               "collider_up": collider_up, "complete": complete}
+               "collider_up": collider_up, "assembly": assembly, "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)
         tmp = args.report + ".tmp"
         with open(tmp, "w") as fh:

@@ -23,6 +23,7 @@
 //! the search stops as soon as the best distance found is `≤ r·l`.
 
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::OnceLock;
 
 use glam::{DVec2, Vec3};
 use rayon::prelude::*;
@@ -43,8 +44,10 @@ pub struct ClosedMesh {
     dims: [usize; 2],
     bin_starts: Vec<u32>,
     bin_items: Vec<u32>,
-    // 3D hash for distances.
-    hash: ColliderHash,
+    // 3D hash for distances, built on the first distance query: the penetration metric asks
+    // only for the points found inside, usually none, and the build over a 47k-triangle body
+    // was most of the metric's time per frame.
+    hash: OnceLock<ColliderHash>,
     cell: f32,
     cell_lo: Cell,
     cell_hi: Cell,
@@ -83,8 +86,8 @@ impl ClosedMesh {
             }
             aabb_cell_size(vertices, triangles)
         };
-        let mut hash = ColliderHash::new();
-        hash.build(vertices, triangles, cell, InsertionRule::Aabb)?;
+        // Checked now, so the build on first use cannot fail.
+        ColliderHash::check(vertices, triangles, cell)?;
 
         let (mut lo3, mut hi3) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         for v in vertices {
@@ -146,11 +149,22 @@ impl ClosedMesh {
             dims,
             bin_starts,
             bin_items,
-            hash,
+            hash: OnceLock::new(),
             cell,
             cell_lo,
             cell_hi,
             bounds: [lo3, hi3],
+        })
+    }
+
+    /// The distance hash, built on first use (its input was checked in [`ClosedMesh::new`]).
+    fn distance_hash(&self) -> &ColliderHash {
+        self.hash.get_or_init(|| {
+            let mut h = ColliderHash::new();
+            // `check` passed on this input in `new`: the build files every triangle.
+            let built = h.build(&self.vertices, &self.triangles, self.cell, InsertionRule::Aabb);
+            debug_assert!(built.is_ok(), "{built:?}");
+            h
         })
     }
 
@@ -199,7 +213,7 @@ impl ClosedMesh {
     fn distance_unless_below(&self, p: [f32; 3], floor: f32) -> (f32, u32) {
         let pv = Vec3::from(p);
         let l = self.cell;
-        let c = self.hash.hash().cell_of(p);
+        let c = self.distance_hash().hash().cell_of(p);
         // Beyond this shell radius every cell of the mesh's bounding box has been visited.
         let r_max =
             (0..3).map(|k| (c[k] - self.cell_lo[k]).abs().max((self.cell_hi[k] - c[k]).abs())).max().unwrap_or(0);
@@ -212,7 +226,7 @@ impl ClosedMesh {
             }
         };
         let visit = |cell: Cell, best: &mut (f32, u32)| {
-            for t in self.hash.hash().query_cell(cell) {
+            for t in self.distance_hash().hash().query_cell(cell) {
                 visit_one(t, best);
             }
         };
@@ -264,7 +278,7 @@ impl ClosedMesh {
             return false;
         }
         let l = self.cell;
-        let c = self.hash.hash().cell_of(p);
+        let c = self.distance_hash().hash().cell_of(p);
         let near = |t: u32| {
             let [a, b, cc] = self.triangles[t as usize].map(|i| Vec3::from(self.vertices[i as usize]));
             closest_point_on_triangle(pv, a, b, cc).0.distance(pv) <= within
@@ -273,8 +287,9 @@ impl ClosedMesh {
         if (2 * r_end + 1).saturating_pow(3) > 4 * self.triangles.len() as i64 + 27 {
             return (0..self.triangles.len() as u32).any(near);
         }
-        let query =
-            |dx: i64, dy: i64, dz: i64| self.hash.hash().query_cell([c[0] + dx, c[1] + dy, c[2] + dz]).any(near);
+        let query = |dx: i64, dy: i64, dz: i64| {
+            self.distance_hash().hash().query_cell([c[0] + dx, c[1] + dy, c[2] + dz]).any(near)
+        };
         for r in 0..=r_end {
             for dz in -r..=r {
                 for dy in -r..=r {

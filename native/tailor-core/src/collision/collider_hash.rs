@@ -119,6 +119,15 @@ impl ColliderHash {
         cell_size: f32,
         rule: InsertionRule,
     ) -> Result<()> {
+        Self::check(vertices, triangles, cell_size)?;
+        self.rule = rule;
+        self.fill(vertices, triangles, cell_size, rule)
+    }
+
+    /// What [`build`](Self::build) checks before filing anything: finite coordinates, indices
+    /// in range, no triangle spanning too many cells. Once it passes, `build` cannot fail on
+    /// the same input (a caller may build later, when first needed).
+    pub fn check(vertices: &[[f32; 3]], triangles: &[[u32; 3]], cell_size: f32) -> Result<()> {
         check_finite3("collider vertices", vertices)?;
         let n = vertices.len();
         for (t, tri) in triangles.iter().enumerate() {
@@ -139,7 +148,16 @@ impl ColliderHash {
                 }
             }
         }
-        self.rule = rule;
+        Ok(())
+    }
+
+    fn fill(
+        &mut self,
+        vertices: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        cell_size: f32,
+        rule: InsertionRule,
+    ) -> Result<()> {
         self.hash.build_with(triangles.len(), cell_size, |i, emit| {
             let t = corners(vertices, triangles[i]);
             let (lo, hi) = aabb_cells(t, cell_size);

@@ -44,10 +44,10 @@ def test_placements_as_in_the_file_with_z_up(scene, addon):
     np.testing.assert_allclose(world, sim.positions, atol=1e-5)
 
 
-BODY = ROOT.parent / "shared/data/bodies/garmentcode-mean-all/mean_all.obj"
+# The GarmentCode mean body, in the repository with its licence (`sample_blends/sources/`).
+BODY = ROOT / "sample_blends/sources/mean_all.obj"
 
 
-@pytest.mark.skipif(not BODY.exists(), reason="shared GarmentCode body absent")
 def test_garmentcode_shirt_sits_on_its_body_imported_by_blender(scene, addon):
     """The body through Blender's own OBJ importer (Y-up file -> Z-up) and the shirt through ours
     end up in the same frame: the shirt's box is around the body's chest."""

@@ -177,9 +177,13 @@ def run(args):
           f"{setup['attached']} pinned particles")
     transition = args.transition if at_rest else 0
     gravity0 = None if args.assembly_gravity or preroll == 0 else bake.ASSEMBLY_GRAVITY
-    print(f"simulate: assembly at the {'rest pose' if at_rest else 'first frame'}: at least {preroll} frames"
-          f"{' without gravity' if gravity0 else ''}, more while the seams close"
-          + (f", then {transition} frames into the first frame" if transition else ""), flush=True)
+    if preroll or transition:
+        steps = ([f"at least {preroll} frames{' without gravity' if gravity0 else ''}, more while the seams close"]
+                 if preroll else []) + ([f"{transition} frames into the first frame"] if transition else [])
+        print(f"simulate: assembly at the {'rest pose' if at_rest else 'first frame'}: {', then '.join(steps)}",
+              flush=True)
+    else:
+        print("simulate: the garment assembles in the recorded frames (no preroll)", flush=True)
     # Frame 0 is the garment after its assembly (as placed when there is none); frames 1..N are
     # one step each (tailor.bake.Bake).
     run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0,

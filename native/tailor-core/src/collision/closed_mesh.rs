@@ -162,7 +162,7 @@ impl ClosedMesh {
         self.hash.get_or_init(|| {
             let mut h = ColliderHash::new();
             // `check` passed on this input in `new`: the build files every triangle.
-            let built = h.build(&self.vertices, &self.triangles, self.cell, InsertionRule::Aabb);
+            let built = h.build_checked(&self.vertices, &self.triangles, self.cell, InsertionRule::Aabb);
             debug_assert!(built.is_ok(), "{built:?}");
             h
         })

@@ -120,8 +120,7 @@ impl ColliderHash {
         rule: InsertionRule,
     ) -> Result<()> {
         Self::check(vertices, triangles, cell_size)?;
-        self.rule = rule;
-        self.fill(vertices, triangles, cell_size, rule)
+        self.build_checked(vertices, triangles, cell_size, rule)
     }
 
     /// What [`build`](Self::build) checks before filing anything: finite coordinates, indices
@@ -151,13 +150,16 @@ impl ColliderHash {
         Ok(())
     }
 
-    fn fill(
+    /// [`build`](Self::build) for input that [`check`](Self::check) has passed (a caller that
+    /// checked it up front and builds later, when first needed).
+    pub fn build_checked(
         &mut self,
         vertices: &[[f32; 3]],
         triangles: &[[u32; 3]],
         cell_size: f32,
         rule: InsertionRule,
     ) -> Result<()> {
+        self.rule = rule;
         self.hash.build_with(triangles.len(), cell_size, |i, emit| {
             let t = corners(vertices, triangles[i]);
             let (lo, hi) = aabb_cells(t, cell_size);

@@ -169,18 +169,22 @@ where
 /// [`SHARED_FEATURE`] of) one of its edges, where another triangle can share it: the distance
 /// to the edge opposite corner i is `wᵢ·2A/‖eᵢ‖`.
 #[inline]
-pub fn on_shared_feature([a, b, c]: [Vec3; 3], bary: [f32; 3]) -> bool {
-    let twice_area = (b - a).cross(c - a).length();
-    let edges = [(c - b).length(), (a - c).length(), (b - a).length()];
+pub fn on_shared_feature(tri: [Vec3; 3], bary: [f32; 3]) -> bool {
+    let (twice_area, edges) = area_and_edges(tri);
     (0..3).any(|i| bary[i] * twice_area <= 2.0 * SHARED_FEATURE * edges[i])
+}
+
+/// Twice the area of `[a, b, c]` and the lengths of the edges opposite a, b and c.
+#[inline]
+fn area_and_edges([a, b, c]: [Vec3; 3]) -> (f32, [f32; 3]) {
+    ((b - a).cross(c - a).length(), [(c - b).length(), (a - c).length(), (b - a).length()])
 }
 
 /// The distance from the point of barycentrics `bary` on triangle `[a, b, c]` to the nearest
 /// of its edges, in its plane (`wᵢ·2A/‖eᵢ‖`, the least over i).
 #[inline]
-pub fn distance_to_edges([a, b, c]: [Vec3; 3], bary: [f32; 3]) -> f32 {
-    let twice_area = (b - a).cross(c - a).length();
-    let edges = [(c - b).length(), (a - c).length(), (b - a).length()];
+pub fn distance_to_edges(tri: [Vec3; 3], bary: [f32; 3]) -> f32 {
+    let (twice_area, edges) = area_and_edges(tri);
     (0..3).map(|i| bary[i] * twice_area / edges[i].max(f32::MIN_POSITIVE)).fold(f32::INFINITY, f32::min)
 }
 

@@ -99,8 +99,7 @@ impl GpuSolver {
             self.timing = Some(timing::Timing::new(&self.ctx.device));
         }
         let pl = &self.ctx.pipelines;
-        // The frame's iteration count starts at zero (the early stop may run fewer).
-        // So do the frame's iteration count (the early stop may run fewer) and its top speed.
+        // The frame's iteration count (the early stop may run fewer) and its top speed start at zero.
         let at = std::mem::offset_of!(StepState, iterations_run) as u64;
         self.ctx.queue.write_buffer(&b.state, at, bytemuck::bytes_of(&[0u32; 2]));
         let plan = plan::frame(pl, g, u, substeps, iterations, rebuild_each_substep, rebuild_first);

@@ -27,15 +27,28 @@ impl Simulation {
     /// Places the holds when the closing phase is on and has none yet; removes them once it
     /// has ended. Called at the start and at the end of every step.
     pub(crate) fn update_closing_holds(&mut self) -> Result<()> {
-        let closing = self.ramp_closing() && self.settings.ramp.closing_hold > 0.0;
-        if closing && !self.collide.holds_placed && !self.collide.meshes.is_empty() {
+        if !self.closing_holds_due() {
+            return Ok(());
+        }
+        self.release_closing_holds();
+        if self.holding() {
             self.collide.holds_placed = true;
-            self.release_closing_holds();
             self.place_closing_holds()?;
-        } else if !closing && !self.collide.holds.is_empty() {
-            self.release_closing_holds();
         }
         Ok(())
+    }
+
+    /// Whether [`update_closing_holds`](Self::update_closing_holds) would place or release
+    /// holds now (an edit of the model: another backend brings its velocities down first).
+    pub(crate) fn closing_holds_due(&self) -> bool {
+        let holding = self.holding();
+        (holding && !self.collide.holds_placed && !self.collide.meshes.is_empty())
+            || (!holding && !self.collide.holds.is_empty())
+    }
+
+    /// The closing phase is on and the body holds the cloth in it.
+    fn holding(&self) -> bool {
+        self.ramp_closing() && self.settings.ramp.closing_hold > 0.0
     }
 
     /// The particles the body holds now (empty outside the closing phase).

@@ -271,12 +271,11 @@ impl Simulation {
         found
     }
 
-    /// The deepest mesh contact of every particle at the current positions:
-    /// `(collider, contact)`, `None` for pinned or free particles.
-    /// With `crossings`, a particle whose motion since the substep's start passed through the
-    /// front of a triangle gets that contact instead ([`MeshCollider::crossing`]): the side
-    /// it came from, however deep it went.
-    fn find_mesh_contacts(&self, crossings: bool) -> Vec<Option<(u32, crate::collision::Contact)>> {
+    /// The deepest mesh contact of every particle at the end of the substep:
+    /// `(collider, contact)`, `None` for pinned or free particles. A particle whose motion
+    /// since the substep's start passed through the front of a triangle gets that contact
+    /// instead ([`MeshCollider::crossing`]): the side it came from, however deep it went.
+    fn substep_end_mesh_contacts(&self) -> Vec<Option<(u32, crate::collision::Contact)>> {
         let (x, x0, meshes, levels, pinned, th) =
             (&self.x, &self.x_start, &self.collide.meshes, &self.collide.levels, &self.model.pinned, self.thickness);
         (0..x.len())
@@ -288,18 +287,16 @@ impl Simulation {
                 }
                 let p = x.get(i);
                 let mut best: Option<(u32, crate::collision::Contact)> = None;
-                if crossings {
-                    let from = x0.get(i);
-                    for (c, m) in meshes.iter().enumerate() {
-                        if let Some(hit) = m.crossing(from, p, levels[i], th) {
-                            if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
-                                best = Some((c as u32, hit));
-                            }
+                let from = x0.get(i);
+                for (c, m) in meshes.iter().enumerate() {
+                    if let Some(hit) = m.crossing(from, p, levels[i], th) {
+                        if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
+                            best = Some((c as u32, hit));
                         }
                     }
-                    if best.is_some() {
-                        return best;
-                    }
+                }
+                if best.is_some() {
+                    return best;
                 }
                 for (c, m) in meshes.iter().enumerate() {
                     if let Some(hit) = m.contact(p, levels[i], th) {
@@ -395,7 +392,7 @@ impl Simulation {
             return;
         }
         let t0 = Instant::now();
-        let found = self.find_mesh_contacts(true);
+        let found = self.substep_end_mesh_contacts();
         for (i, hit) in found.into_iter().enumerate() {
             if let Some((c, h)) = hit {
                 if self.contacts.weight[i] > 0.0 && self.contacts.collider[i] & MESH_CONTACT == 0 {

@@ -95,16 +95,6 @@ impl Simulation {
         self.time += back.elapsed;
     }
 
-    /// Whether the body's holds of the closing phase are to be placed or released now
-    /// (`closing_hold.rs`): another backend hands the step to [`Simulation::update_closing_holds`],
-    /// which edits the model, around its frames.
-    #[cfg(feature = "gpu")]
-    pub(crate) fn closing_holds_due(&self) -> bool {
-        let closing = self.ramp_closing() && self.settings.ramp.closing_hold > 0.0;
-        (closing && !self.collide.holds_placed && !self.collide.meshes.is_empty())
-            || (!closing && !self.collide.holds.is_empty())
-    }
-
     /// Whether the next step has nothing to solve (the cloth is asleep and nothing drives it),
     /// for another backend, which lets the CPU take such a step (it only advances the clock).
     #[cfg(feature = "gpu")]

@@ -298,6 +298,13 @@ def test_records_say_which_backend_solved_each_frame(tube):
     assert [r["backend"] for r in run.records[1:]] == ["cpu"] * 3
     assert all(r["backend_warning"] is None for r in run.records)
     assert run.summary()["backends"] == {"cpu": 3}
+    # Where each solved frame's time went: the stages sum to their total, within the frame's.
+    assert run.records[0]["stages_ms"] is None
+    for r in run.records[1:]:
+        st = r["stages_ms"]
+        parts = st["prediction"] + st["local"] + st["global"] + st["damping"]
+        assert st["total"] > 0 and abs(parts - st["total"]) <= 1e-6 * max(1.0, st["total"]), st
+        assert st["total"] <= r["ms"] and all(st[k] >= 0 for k in ("hash", "contacts", "self", "resolve")), st
 
 
 def run_polled(sim, request) -> dict:
@@ -334,7 +341,9 @@ def test_a_bake_driven_on_native_threads_solves_the_same_frames(tube):
         a = here.step([v])
         b = bake.drive(there.solves([v]), there.sim, run_polled)
         assert b is there.records[-1] and b["ms"] > 0.0
-        assert {k: x for k, x in a.items() if k != "ms"} == {k: x for k, x in b.items() if k != "ms"}
+        timed = ("ms", "stages_ms")
+        assert {k: x for k, x in a.items() if k not in timed} == {k: x for k, x in b.items() if k not in timed}
+        assert (a["stages_ms"] or {}).keys() == (b["stages_ms"] or {}).keys()
         np.testing.assert_array_equal(here.frames[-1], there.frames[-1])
     assert there.pins.attached and here.sim.state_hash() == there.sim.state_hash()
 

@@ -98,6 +98,21 @@ def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: in
     }
 
 
+def stage_ms(stats: dict) -> dict:
+    """Where a solved frame's time went, in ms, from its `Simulation.step` statistics: the
+    solver's stages (`prediction`, `local`, `global`, `damping`, `total`) and the collision
+    work inside them (`hash`: placing the colliders and filing their hashes, `contacts`: the
+    iterations' particle-vs-mesh tests, `self`: self-collision, `resolve`: the end of each
+    substep). The quality metrics are outside them (the record's `ms` includes them)."""
+    out = {k: 1e3 * float(v) for k, v in stats.get("timings", {}).items()}
+    col = stats.get("collision", {})
+    for name, key in (("hash", "hash_seconds"), ("contacts", "contact_seconds"),
+                      ("self", "self_seconds"), ("resolve", "resolve_seconds")):
+        if key in col:
+            out[name] = 1e3 * float(col[key])
+    return out
+
+
 def summarize(records: Sequence[dict]) -> dict:
     """Worst case of every quality field over `records` (the largest of `FIELDS`), the mean
     frame time, any NaN, and the garment on the body over the frames `tailor.judge` judges it
@@ -449,6 +464,7 @@ class Bake:
         # the start frame, solved by no step of its own).
         rec["backend"] = None if stats is None else stats.get("backend")
         rec["backend_warning"] = None if stats is None else stats.get("warning")
+        rec["stages_ms"] = None if stats is None else stage_ms(stats)
         self.frames.append(pos)
         self.records.append(rec)
         return rec

@@ -129,13 +129,13 @@ fn main() {
         ("still body, all skips", Scene { moving: false, ..base }),
         (
             "still body, no reuse",
-            Scene { moving: false, skips: CollisionSkips { reuse_still_colliders: false, ..all }, ..base },
+            Scene { moving: false, skips: CollisionSkips { reuse_collider_hashes: false, ..all }, ..base },
         ),
         (
             "still body, no reuse, no culling",
             Scene {
                 moving: false,
-                skips: CollisionSkips { reuse_still_colliders: false, cull_far_triangles: false, ..all },
+                skips: CollisionSkips { reuse_collider_hashes: false, cull_far_triangles: false, ..all },
                 ..base
             },
         ),

@@ -208,7 +208,7 @@ fn main() {
         (
             "still collider's hash kept: shirt, still body",
             false,
-            CollisionSkips { reuse_still_colliders: false, ..Default::default() },
+            CollisionSkips { reuse_collider_hashes: false, ..Default::default() },
         ),
         (
             "far triangles culled: shirt, walking body",

@@ -310,10 +310,15 @@ fn skips_do_not_change_results() {
     };
     let all = CollisionSkips::default();
     let (h_reuse, s_reuse) = run_with(all, false);
-    let (h_rebuild, s_rebuild) = run_with(CollisionSkips { reuse_still_colliders: false, ..all }, false);
+    let (h_rebuild, s_rebuild) = run_with(CollisionSkips { reuse_collider_hashes: false, ..all }, false);
     println!("still: reuse {s_reuse:?}, forced rebuild {s_rebuild:?}");
     assert_eq!(h_reuse, h_rebuild, "reusing a still collider's hash changed the result");
     assert!(s_reuse.1 > 100 && s_rebuild.1 == 0, "the skip did not happen: {s_reuse:?}");
+    let (h_frame, s_frame) = run_with(all, true);
+    let (h_substeps, s_substeps) = run_with(CollisionSkips { reuse_collider_hashes: false, ..all }, true);
+    println!("moving: one build a frame {s_frame:?}, one a substep {s_substeps:?}");
+    assert_eq!(h_frame, h_substeps, "filing a moving collider once a frame changed the result");
+    assert!(s_frame.0 < s_substeps.0 && s_frame.1 > 0, "the moving collider's hash was not kept: {s_frame:?}");
     let (h_cull, s_cull) = run_with(all, true);
     let (h_nocull, _) = run_with(CollisionSkips { cull_far_triangles: false, ..all }, true);
     println!("moving: culling {s_cull:?}");

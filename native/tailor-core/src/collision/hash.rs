@@ -40,6 +40,11 @@
 //! 4. each bucket is sorted by `(cell_id, index)`, which makes the result independent of the
 //!    thread schedule (deterministic) and lets a query binary-search its cell in the bucket.
 //!
+//! [`SpatialHash::build_with_masks`] files primitives for up to 32 states at once (a moving
+//! collider at each substep of a frame): each entry carries a mask of the states it is filed
+//! for, and [`SpatialHash::query_cell_for`] reads one state's entries, so a table built once
+//! answers each state as a table of its own would.
+//!
 //! The table size `n` is the next power of two at least twice the number of primitives (so
 //! `mod n` is a mask). What loads a bucket is the number of distinct *cells*, which is at most
 //! the number of insertions and for meshes well below it (the 47.5k-triangle body with cells of
@@ -142,11 +147,14 @@ pub fn bucket_of(c: Cell, mask: u64) -> usize {
     (h.unsigned_abs() & mask) as usize
 }
 
-/// One insertion as stored in the table: the primitive and the id of the cell it was filed in.
+/// One insertion as stored in the table: the primitive, the id of the cell it was filed in,
+/// and the set of states it is filed there for (bit `j`: state `j`; all ones unless the
+/// build was [`build_with_masks`](SpatialHash::build_with_masks)).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Entry {
     pub cell_id: i64,
     pub index: u32,
+    pub mask: u32,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -154,6 +162,7 @@ struct Key {
     cell_id: i64,
     bucket: u32,
     index: u32,
+    mask: u32,
 }
 
 /// A spatial hash table of primitive indices, rebuilt every substep. See the module docs.
@@ -232,6 +241,16 @@ impl SpatialHash {
         bucket[first..].iter().take_while(move |e| e.cell_id == id).map(|e| e.index)
     }
 
+    /// [`query_cell`](Self::query_cell) for the states in `bits`: the primitives filed in
+    /// `cell` for one of them.
+    #[inline]
+    pub fn query_cell_for(&self, cell: Cell, bits: u32) -> impl Iterator<Item = u32> + '_ {
+        let id = cell_id(cell);
+        let bucket = self.bucket_entries(cell);
+        let first = bucket.partition_point(|e| e.cell_id < id);
+        bucket[first..].iter().take_while(move |e| e.cell_id == id).filter(move |e| e.mask & bits != 0).map(|e| e.index)
+    }
+
     /// Files point `i` = `(x[i], y[i], z[i])` in the cell containing it.
     pub fn build_points(&mut self, x: &[f32], y: &[f32], z: &[f32], cell_size: f32) -> Result<()> {
         if x.len() != y.len() || x.len() != z.len() {
@@ -248,6 +267,17 @@ impl SpatialHash {
     pub fn build_with<F>(&mut self, num_primitives: usize, cell_size: f32, visit: F) -> Result<()>
     where
         F: Fn(usize, &mut dyn FnMut(Cell)) + Sync,
+    {
+        self.build_with_masks(num_primitives, cell_size, |i, emit| visit(i, &mut |c| emit(c, u32::MAX)))
+    }
+
+    /// One table for up to 32 states of the primitives (a moving collider at each substep of
+    /// a frame): `visit(i, emit)` calls `emit(cell, mask)` once for every cell primitive `i`
+    /// is filed in for some state, `mask` saying for which (bit `j`: state `j`);
+    /// [`query_cell_for`](Self::query_cell_for) then gives each state's own table.
+    pub fn build_with_masks<F>(&mut self, num_primitives: usize, cell_size: f32, visit: F) -> Result<()>
+    where
+        F: Fn(usize, &mut dyn FnMut(Cell, u32)) + Sync,
     {
         if !(cell_size.is_finite() && cell_size > 0.0) {
             return Err(TailorError::setting("cell_size", cell_size, "the hash cell size must be positive and finite"));
@@ -271,9 +301,14 @@ impl SpatialHash {
         self.block_keys[..num_blocks].par_iter_mut().enumerate().for_each(|(b, keys)| {
             keys.clear();
             for i in b * PRIM_BLOCK..((b + 1) * PRIM_BLOCK).min(num_primitives) {
-                visit(i, &mut |c| {
+                visit(i, &mut |c, bits| {
                     if keys.len() < MAX_BLOCK_KEYS {
-                        keys.push(Key { cell_id: cell_id(c), bucket: bucket_of(c, mask) as u32, index: i as u32 });
+                        keys.push(Key {
+                            cell_id: cell_id(c),
+                            bucket: bucket_of(c, mask) as u32,
+                            index: i as u32,
+                            mask: bits,
+                        });
                     } else {
                         overflow.store(true, Ordering::Relaxed);
                     }
@@ -349,7 +384,7 @@ impl SpatialHash {
                 let bucket = &mut out[lo - base..hi - base];
                 for (e, pos) in bucket.iter_mut().zip(lo..hi) {
                     let k = keys[slots[pos].load(Ordering::Relaxed) as usize];
-                    *e = Entry { cell_id: k.cell_id, index: k.index };
+                    *e = Entry { cell_id: k.cell_id, index: k.index, mask: k.mask };
                 }
                 if bucket.len() > 1 {
                     bucket.sort_unstable_by_key(|e| (e.cell_id, e.index));
@@ -384,6 +419,39 @@ where
 mod tests {
     use super::*;
     use crate::test_util::Rng;
+
+    /// A table built with masks answers each state's query with exactly the primitives filed
+    /// there for that state (and `query_cell` with all of them), in increasing order.
+    #[test]
+    fn masked_queries_return_each_states_primitives() {
+        let mut rng = Rng::new(9);
+        let n = 3000;
+        let filed: Vec<Vec<(Cell, u32)>> = (0..n)
+            .map(|_| {
+                let base = [0, 1, 2].map(|_| (rng.f32() * 20.0) as i64 - 10);
+                (0..1 + rng.next_u64() % 4)
+                    .map(|d| ([base[0] + d as i64, base[1], base[2]], 1 + (rng.next_u64() % 0xffff) as u32))
+                    .collect()
+            })
+            .collect();
+        let mut h = SpatialHash::new();
+        h.build_with_masks(n, 0.01, |i, emit| {
+            for &(c, bits) in &filed[i] {
+                emit(c, bits);
+            }
+        })
+        .unwrap();
+        for c in (0..400).map(|_| [0, 1, 2].map(|_| (rng.f32() * 24.0) as i64 - 12)) {
+            for bit in [1u32, 1 << 3, 1 << 15, u32::MAX] {
+                let want: Vec<u32> = (0..n as u32)
+                    .filter(|&i| filed[i as usize].iter().any(|&(fc, bits)| fc == c && bits & bit != 0))
+                    .collect();
+                assert_eq!(h.query_cell_for(c, bit).collect::<Vec<_>>(), want, "cell {c:?}, bit {bit:#x}");
+            }
+            let all: Vec<u32> = h.query_cell(c).collect();
+            assert_eq!(all, h.query_cell_for(c, u32::MAX).collect::<Vec<_>>());
+        }
+    }
 
     #[test]
     fn queries_return_exactly_the_points_of_the_cell() {

@@ -90,7 +90,7 @@ mod tests {
         assert_struct_size(&m, "Meshes", std::mem::size_of::<Meshes>());
         assert_struct_size(&m, "TableInfo", std::mem::size_of::<TableInfo>());
         assert!(COLLIDE_WGSL.contains(&format!("MAX_MESHES: u32 = {MAX_MESHES}u;")));
-        let pad = crate::solver::collide::mesh_collider::PAD;
+        let pad = crate::solver::collide::collider_filing::PAD;
         assert!(COLLIDE_WGSL.contains(&format!("PAD: f32 = {pad:?};")), "the CPU's triangle pad is {pad}");
     }
 

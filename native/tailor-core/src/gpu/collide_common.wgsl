@@ -81,7 +81,7 @@ fn bucket_of(c: vec3<i32>, mask: u32) -> u32 {
     return h & mask;
 }
 
-// Triangle filing (port of `mesh_collider::keeps_padded`): Alg. 1's vertex test, else (rule
+// Triangle filing (port of `collider_filing::Filing`): Alg. 1's vertex test, else (rule
 // paper-or-plane) the plane-box test widened by `pad`.
 fn keeps_cell(t0: vec3<f32>, t1: vec3<f32>, t2: vec3<f32>, cell: vec3<i32>, l: f32, pad: f32, rule: u32) -> bool {
     if (rule == RULE_AABB) {

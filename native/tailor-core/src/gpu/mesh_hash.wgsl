@@ -5,7 +5,7 @@
 //    α = (k + 1)/K (the CPU's `MeshCollider::prepare`); at the first substep the frame's
 //    vertex velocities (next − prev)/dt, at the last prev ← next for the next frame;
 // 2. `count` (per triangle): the triangle's unit normal, and +1 in the bucket of every cell
-//    of its padded AABB the insertion rule keeps (`mesh_collider::keeps_padded`);
+//    of its padded AABB the insertion rule keeps (`collider_filing::Filing`);
 // 3. `hash.wgsl` `scan`: bucket starts by a prefix sum, counts become insertion cursors;
 // 4. `scatter` (per triangle): the same cells again, each entry written at its bucket's
 //    cursor (atomic add);

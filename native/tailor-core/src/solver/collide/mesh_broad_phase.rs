@@ -62,7 +62,7 @@ impl MeshCollider {
         let cell = self.hash.cell_of(p.into());
         let cands = || {
             self.hash
-                .query_cell(cell)
+                .query_cell_for(cell, self.bit)
                 .filter(move |&k| levels_collide(level, self.tri_level[self.kept[k as usize] as usize]))
         };
         let corners = |k: u32| self.tris[self.kept[k as usize] as usize].map(|v| Vec3::from(self.cur[v as usize]));
@@ -159,7 +159,8 @@ mod tests {
             *p = (Vec3::from(*p) * s + Vec3::new(0.3, -1.2, 1.1)).into();
         }
         let mut m = MeshCollider::new(&v, &t, MeshColliderOptions::default()).unwrap();
-        m.prepare(1.0, (Vec3::splat(-10.0), Vec3::splat(10.0)), true, false);
+        let all = (Vec3::splat(-10.0), Vec3::splat(10.0));
+        m.prepare(&[1.0], all, all, true, false);
         let th = 0.003;
         let mut rng = Rng::new(7);
         let (mut free, mut near, mut fallbacks) = (0, 0, 0);

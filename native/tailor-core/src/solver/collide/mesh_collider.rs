@@ -17,10 +17,11 @@
 
 use glam::Vec3;
 
+use super::collider_filing::{file_triangle, MAX_STATES, PAD};
 use super::levels::{levels_collide, triangle_levels_from_vertices};
-use crate::collision::collider_hash::{keeps_cell, InsertionRule};
+use crate::collision::collider_hash::InsertionRule;
 use crate::collision::geometry::{closest_point_on_triangle, triangle_normal, Contact};
-use crate::collision::hash::{cell_of, segment_cells, Cell, SpatialHash};
+use crate::collision::hash::{cell_of, segment_cells, SpatialHash};
 use crate::error::{Result, TailorError};
 use crate::mesh::check_finite3;
 
@@ -85,6 +86,11 @@ pub(crate) struct MeshCollider {
     pub(super) normals: Vec<Vec3>,
     /// Cloth box the hash was culled for (`None` = no valid hash).
     built_for: Option<(Vec3, Vec3)>,
+    /// The frame fractions a moving collider's hash was filed for (bit `j` of an entry's mask:
+    /// `states[j]`); empty for a still collider's (one state, every bit).
+    states: Vec<f32>,
+    /// The current substep's bit in the hash's masks.
+    pub(super) bit: u32,
 }
 
 /// What one `prepare` did (for the statistics).
@@ -138,27 +144,6 @@ fn mean_edge(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> f32 {
     (sum / (3 * triangles.len()) as f64) as f32
 }
 
-/// Triangles are filed in the cells of their AABB grown by `PAD · l`, and the plane test of
-/// [`InsertionRule::PaperOrPlane`] uses a slab as thick: a triangle lying on a cell face (a
-/// floor at z = 0 with cells [−l, 0) and [0, l)) is then also in the cell just behind it, where
-/// a particle lands after crossing it within one substep. Without the pad such a particle
-/// finds an empty cell and falls through (`tests/collision_mesh.rs`, the two-triangle floor).
-pub(crate) const PAD: f32 = 0.25;
-
-/// [`keeps_cell`] with the plane test widened by `pad`.
-#[inline]
-fn keeps_padded(t: [Vec3; 3], cell: Cell, l: f32, pad: f32, rule: InsertionRule) -> bool {
-    if keeps_cell(t, cell, l, rule) {
-        return true;
-    }
-    if rule != InsertionRule::PaperOrPlane {
-        return false;
-    }
-    let centre = (Vec3::new(cell[0] as f32, cell[1] as f32, cell[2] as f32) + 0.5) * l;
-    let n = (t[1] - t[0]).cross(t[2] - t[0]);
-    n.dot(centre - t[0]).abs() <= 0.5 * l * n.abs().element_sum() + pad * n.length()
-}
-
 impl MeshCollider {
     pub fn new(vertices: &[[f32; 3]], triangles: &[[u32; 3]], opts: MeshColliderOptions) -> Result<Self> {
         validate(vertices, triangles)?;
@@ -194,6 +179,8 @@ impl MeshCollider {
             kept: Vec::new(),
             normals: Vec::new(),
             built_for: None,
+            states: Vec::new(),
+            bit: u32::MAX,
         })
     }
 
@@ -270,61 +257,116 @@ impl MeshCollider {
         }
     }
 
-    /// Positions of substep fraction `alpha` and the hash for them; `cloth` is the box of the
-    /// cloth during the substep. `force` rebuilds even a still collider, `cull` enables culling.
-    pub fn prepare(&mut self, alpha: f32, cloth: (Vec3, Vec3), force: bool, cull: bool) -> PrepareOutcome {
+    /// Positions of substep fraction `alphas[0]` and a hash valid for them; `cloth` is the box
+    /// of the cloth during the substep, `reach` a box the cloth is expected to stay in until
+    /// the frame ends. `force` rebuilds every substep, `cull` enables culling.
+    ///
+    /// A moving collider's hash serves the rest of the frame: `alphas` lists this substep's
+    /// fraction and those of the frame's later substeps, and each triangle is filed, in one
+    /// build, in every cell the insertion rule gives it at each of them, with a mask saying at
+    /// which (`SpatialHash::build_with_masks`); a query reads the current substep's bit
+    /// ([`bit`](Self::bit)). Every substep thus sees exactly the candidates a build of its own
+    /// would give (the positions at `alphas[j]` are computed as `cur` is), for one build a
+    /// frame instead of one a substep while the cloth stays within `reach` ⊕ `l`.
+    pub fn prepare(
+        &mut self,
+        alphas: &[f32],
+        cloth: (Vec3, Vec3),
+        reach: (Vec3, Vec3),
+        force: bool,
+        cull: bool,
+    ) -> PrepareOutcome {
+        let alpha = alphas.first().copied().unwrap_or(1.0);
         if self.moving {
             for (c, (a, b)) in self.cur.iter_mut().zip(self.prev.iter().zip(&self.next)) {
                 *c = (Vec3::from(*a).lerp(Vec3::from(*b), alpha)).into();
             }
         }
         let l = self.cell;
-        let reusable = !self.moving
-            && !force
+        // A moving collider's hash holds this substep when it was filed for its fraction.
+        let state = if self.moving { self.states.iter().position(|&a| a == alpha) } else { Some(0) };
+        let reusable = !force
+            && state.is_some()
             && match self.built_for {
                 // The hash was culled for `built ⊕ 2l`; valid while the cloth stays within `built ⊕ l`.
                 Some((lo, hi)) => !cull || (cloth.0.cmpge(lo - l).all() && cloth.1.cmple(hi + l).all()),
                 None => false,
             };
         if reusable {
+            if self.moving {
+                self.bit = 1 << state.unwrap_or(0);
+                self.update_normals();
+            }
             return PrepareOutcome { rebuilt: false, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() };
         }
-        let (lo, hi) = (cloth.0 - 2.0 * l, cloth.1 + 2.0 * l);
+        // The fractions to file for: this substep's alone for a still collider (or when forced).
+        self.states.clear();
+        if self.moving {
+            let span = if force { &alphas[..alphas.len().min(1)] } else { &alphas[..alphas.len().min(MAX_STATES)] };
+            self.states.extend_from_slice(span);
+            if self.states.is_empty() {
+                self.states.push(alpha);
+            }
+        }
+        let culled_for = if self.moving && !force { (cloth.0.min(reach.0), cloth.1.max(reach.1)) } else { cloth };
+        let (prev, next, cur, states) = (&self.prev, &self.next, &self.cur, &self.states);
+        let at = |tri: [u32; 3], j: usize| -> [Vec3; 3] {
+            match states.get(j) {
+                Some(&a) => tri.map(|v| Vec3::from(prev[v as usize]).lerp(Vec3::from(next[v as usize]), a)),
+                None => tri.map(|v| Vec3::from(cur[v as usize])),
+            }
+        };
+        let count = states.len().max(1);
+        let (lo, hi) = (culled_for.0 - 2.0 * l, culled_for.1 + 2.0 * l);
         self.kept.clear();
         for (t, tri) in self.tris.iter().enumerate() {
             if cull {
-                let p = tri.map(|v| Vec3::from(self.cur[v as usize]));
-                let (tlo, thi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
-                if tlo.cmpgt(hi).any() || thi.cmplt(lo).any() {
+                // Over several fractions: the box of the frame's start and end positions holds
+                // the triangle at every fraction between (a superset: nothing the fractions'
+                // own boxes keep is culled).
+                let p = if count == 1 {
+                    at(*tri, 0).map(|v| (v, v))
+                } else {
+                    tri.map(|v| {
+                        let (a, b) = (Vec3::from(prev[v as usize]), Vec3::from(next[v as usize]));
+                        (a.min(b), a.max(b))
+                    })
+                };
+                let (tlo, thi) = (p[0].0.min(p[1].0).min(p[2].0), p[0].1.max(p[1].1).max(p[2].1));
+                let far = tlo.cmpgt(hi).any() || thi.cmplt(lo).any();
+                if far {
                     continue;
                 }
             }
             self.kept.push(t as u32);
         }
-        let (cur, tris, kept, rule) = (&self.cur, &self.tris, &self.kept, self.opts.rule);
+        let (tris, kept, rule) = (&self.tris, &self.kept, self.opts.rule);
         let pad = PAD * l;
-        // Sizes were checked when positions were given, so the build cannot fail.
-        let _ = self.hash.build_with(kept.len(), l, |i, emit| {
-            let t = tris[kept[i] as usize].map(|v| Vec3::from(cur[v as usize]));
-            let (lo, hi) = (t[0].min(t[1]).min(t[2]) - pad, t[0].max(t[1]).max(t[2]) + pad);
-            let (clo, chi) = (cell_of(lo.into(), l), cell_of(hi.into(), l));
-            for z in clo[2]..=chi[2] {
-                for y in clo[1]..=chi[1] {
-                    for x in clo[0]..=chi[0] {
-                        if keeps_padded(t, [x, y, z], l, pad, rule) {
-                            emit([x, y, z]);
-                        }
-                    }
-                }
-            }
+        let filed = self.hash.build_with_masks(kept.len(), l, |i, emit| {
+            file_triangle(count, |j| at(tris[kept[i] as usize], j), l, pad, rule, emit)
         });
+        if filed.is_err() && count > 1 {
+            // Too many cells for one table over the frame (a fast, coarse collider): this
+            // substep alone, whose sizes were checked when its positions were given.
+            self.states.truncate(1);
+            let at = |tri: [u32; 3]| tri.map(|v| Vec3::from(self.cur[v as usize]));
+            let _ = self.hash.build_with_masks(kept.len(), l, |i, emit| {
+                file_triangle(1, |_| at(tris[kept[i] as usize]), l, pad, rule, emit)
+            });
+        }
+        self.bit = if self.moving { 1 } else { u32::MAX };
+        self.update_normals();
+        self.built_for = Some(culled_for);
+        PrepareOutcome { rebuilt: true, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() }
+    }
+
+    /// Unit normals of the kept triangles at `cur`, by hash entry.
+    fn update_normals(&mut self) {
         self.normals.clear();
         self.normals.extend(self.kept.iter().map(|&t| {
             let p = self.tris[t as usize].map(|v| Vec3::from(self.cur[v as usize]));
             triangle_normal(p[0], p[1], p[2]).unwrap_or(Vec3::ZERO)
         }));
-        self.built_for = Some(cloth);
-        PrepareOutcome { rebuilt: true, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() }
     }
 
     /// The particle-vs-cell test at `p` against the triangles of its cell whose level
@@ -356,7 +398,7 @@ impl MeshCollider {
         // through the cell; padded by `PAD`, so rounding at a cell face loses nothing): the
         // cells the segment passes through hold every candidate, however long the motion.
         segment_cells(from.into(), to.into(), l, MAX_CROSSING_CELLS, |cell| {
-            for k in self.hash.query_cell(cell) {
+            for k in self.hash.query_cell_for(cell, self.bit) {
                 let t = self.kept[k as usize];
                 let n = self.normals[k as usize];
                 if n == Vec3::ZERO || !levels_collide(level, self.tri_level[t as usize]) {

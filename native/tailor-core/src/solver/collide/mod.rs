@@ -1,6 +1,7 @@
 //! Contacts and collisions in the solver, in one place: the cloth against analytic shapes
 //! ([`contacts`]: planes, spheres, capsules, with [`shape_check`] on their input), against
-//! animated characters ([`mesh_collider`]) and against itself ([`self_collide`]), Nylén et al.
+//! animated characters ([`mesh_collider`], its hash filed by [`collider_filing`], its
+//! iterations' tests spared by [`mesh_broad_phase`]) and against itself ([`self_collide`]), Nylén et al.
 //! 2020, section 6; the rule that switches collisions off by level ([`levels`]); and the
 //! collision state a simulation owns ([`Collisions`]).
 //!
@@ -11,9 +12,10 @@
 //! closing hold beside it): this module never imports the simulation, so there is no cycle.
 //!
 //! The skips the scene decides (no hash without mesh colliders, no self pass when off, hash
-//! reuse for a still collider, culling of triangles far from the cloth) are switchable in Rust
+//! reuse for a still collider and one filing a frame for a moving one, culling of triangles far from the cloth) are switchable in Rust
 //! only, through [`CollisionSkips`], so benchmarks and tests can measure and compare them.
 
+pub(crate) mod collider_filing;
 pub mod contacts;
 pub mod levels;
 pub(crate) mod mesh_broad_phase;
@@ -36,8 +38,9 @@ pub(crate) const MESH_CONTACT: u32 = 1 << 31;
 /// results, only time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CollisionSkips {
-    /// Keep a still collider's hash across substeps and frames.
-    pub reuse_still_colliders: bool,
+    /// Keep a still collider's hash across substeps and frames, and file a moving one once for
+    /// the substeps of a frame (`MeshCollider::prepare`).
+    pub reuse_collider_hashes: bool,
     /// Leave collider triangles far from the cloth out of the hash.
     pub cull_far_triangles: bool,
     /// Search self-collision pairs with a margin and keep the list while particles move
@@ -50,7 +53,7 @@ pub struct CollisionSkips {
 
 impl Default for CollisionSkips {
     fn default() -> Self {
-        Self { reuse_still_colliders: true, cull_far_triangles: true, reuse_self_pairs: true, mesh_broad_phase: true }
+        Self { reuse_collider_hashes: true, cull_far_triangles: true, reuse_self_pairs: true, mesh_broad_phase: true }
     }
 }
 
@@ -72,6 +75,9 @@ pub(crate) struct Collisions {
     pub(crate) contact_tri: Vec<u32>,
     pub(crate) contact_bary: Vec<[f32; 3]>,
     pub(crate) alpha: f32,
+    /// Fractions of the frame at the ends of this substep and of the later ones (a moving
+    /// collider's hash serves them all, `MeshCollider::prepare`).
+    pub(crate) alphas_left: Vec<f32>,
     frame_dt: f32,
     pub stats: CollisionStats,
     /// Another backend began this frame (`begin_frame`) and then handed it to the CPU: the
@@ -107,6 +113,8 @@ impl Collisions {
     /// Called before substep `k` of `count`.
     pub fn set_substep(&mut self, k: u32, count: u32) {
         self.alpha = (k + 1) as f32 / count as f32;
+        self.alphas_left.clear();
+        self.alphas_left.extend((k + 1..=count).map(|j| j as f32 / count as f32));
     }
 
     pub fn take_stats(&mut self) -> CollisionStats {

@@ -47,6 +47,23 @@ fn box_of(a: &crate::solver::model::soa::Vec3Soa, b: &crate::solver::model::soa:
     (lo, hi)
 }
 
+/// Where the cloth is expected to go until the frame ends: the box of every particle's
+/// substep motion `x_start → y` carried on `steps` times (the hash of a moving collider is
+/// culled for it, `MeshCollider::prepare`; a cloth that leaves it only costs a rebuild).
+fn reach_of(
+    a: &crate::solver::model::soa::Vec3Soa,
+    b: &crate::solver::model::soa::Vec3Soa,
+    steps: f32,
+) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for i in 0..a.len() {
+        let p = a.get(i) + (b.get(i) - a.get(i)) * steps;
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    (lo, hi)
+}
+
 fn check_coefficients(name: &'static str, v: &[f32], n: usize) -> Result<()> {
     if v.len() != n {
         return Err(TailorError::shape(name, format!("{} values for {n} particles", v.len())));
@@ -191,10 +208,12 @@ impl Simulation {
         let t0 = Instant::now();
         let cloth = box_of(&self.x_start, &self.y);
         let c = &mut self.collide;
-        let (alpha, skips) = (c.alpha, c.skips);
+        let moving = c.any_collider_moving();
+        let reach = if moving { reach_of(&self.x_start, &self.y, c.alphas_left.len() as f32) } else { cloth };
+        let skips = c.skips;
         let (mut kept, mut culled) = (0, 0);
         for m in &mut c.meshes {
-            let out = m.prepare(alpha, cloth, !skips.reuse_still_colliders, skips.cull_far_triangles);
+            let out = m.prepare(&c.alphas_left, cloth, reach, !skips.reuse_collider_hashes, skips.cull_far_triangles);
             if out.rebuilt {
                 c.stats.rebuilds += 1;
             } else {

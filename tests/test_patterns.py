@@ -133,16 +133,33 @@ def test_garment_file_round_trip(tmp_path):
     assert np.array_equal(sa.positions, sb.positions)
 
 
-def test_bend_round_trip():
+def test_bend_rolls_a_piece_without_stretching_it():
+    """`tailor.bend` rolls the skirt panel onto a cylinder: every edge keeps its length up to
+    its chord (0.1 % at this resolution and radius); `radius` sets the cylinder; bad input
+    is a typed error."""
     piece = tailor.read_pattern(str(SKIRT)).pieces[0]
-    m = tailor.triangulate(piece, edge=0.05)
+    m = tailor.triangulate(piece, edge=0.01)
     pos = np.concatenate([m.rest, np.zeros((len(m.rest), 1), np.float32)], axis=1)
-    bent = tailor.bend(pos, m.rest, (0.0, 0.0, -0.1), (0.0, 1.0, 0.0), 90.0, symmetry=((0.0, 0.0), (0.0, 1.0)))
-    assert bent.shape == pos.shape and not np.allclose(bent, pos)
-    back = tailor.bend(bent, m.rest, (0.0, 0.0, -0.1), (0.0, 1.0, 0.0), -90.0, symmetry=((0.0, 0.0), (0.0, 1.0)))
-    assert np.allclose(back, pos, atol=1e-5)
+    centre = m.rest.mean(axis=0)
+    axis = (float(centre[0]), 0.0, -0.1)
+    edges = np.unique(np.sort(np.concatenate([m.triangles[:, [0, 1]], m.triangles[:, [1, 2]],
+                                              m.triangles[:, [2, 0]]]), axis=1), axis=0)
+
+    def lengths(p):
+        return np.linalg.norm(p[edges[:, 0]].astype(np.float64) - p[edges[:, 1]], axis=1)
+
+    sym = ((float(centre[0]), 0.0), (0.0, 1.0))
+    bent = tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 90.0, symmetry=sym)
+    assert bent.shape == pos.shape and bent[:, 2].min() < -0.05
+    assert np.abs(lengths(bent) / lengths(pos) - 1.0).max() < 1e-3
+    on = tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 0.0, symmetry=sym, radius=0.1)
+    # Rolled from the centre line onto a 10 cm cylinder tangent to the panel there.
+    r = np.hypot(on[:, 0] - centre[0], on[:, 2] + 0.1)
+    assert np.allclose(r, 0.1, atol=1e-5)
     with pytest.raises(tailor.InvalidParameterError):
         tailor.bend(pos, m.rest, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 10.0)
+    with pytest.raises(tailor.InvalidParameterError):
+        tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 10.0, radius=-1.0)
 
 
 def test_file_errors_are_typed_and_name_the_file(tmp_path):

@@ -73,7 +73,8 @@ class BendProperties:
     )
     angle: FloatProperty(
         name="Angle",
-        description="Rotation of the vertex farthest from the centre or symmetry line",
+        description="Turn of the point farthest from where the piece starts to roll (the symmetry "
+        "line, or the edge nearest the axis): the piece rolls onto a cylinder, every length kept",
         subtype="ANGLE",
         default=math.radians(90.0),
         soft_min=-2 * math.pi,
@@ -81,7 +82,7 @@ class BendProperties:
     )
     use_symmetry: BoolProperty(
         name="Symmetric",
-        description="Bend the two sides of the symmetry line in opposite senses (a sleeve)",
+        description="Roll the two sides of the symmetry line in opposite senses (a sleeve)",
         default=True,
     )
     symmetry_point: FloatVectorProperty(
@@ -98,7 +99,7 @@ class BendProperties:
     )
     threshold: FloatProperty(
         name="Distance Threshold",
-        description="Vertices closer than this to the axis do not move",
+        description="Points within this distance (along the piece) of where it starts to roll do not move",
         subtype="DISTANCE",
         unit="LENGTH",
         default=0.0,

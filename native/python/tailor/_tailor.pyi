@@ -420,6 +420,7 @@ class Garment:
         angle_deg: float,
         symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
         threshold: float = 0.0,
+        radius: float | None = None,
     ) -> None: ...
     def build_simulation(
         self,
@@ -452,6 +453,7 @@ def bend(
     angle_deg: float,
     symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
     threshold: float = 0.0,
+    radius: float | None = None,
 ) -> F32: ...
 
 class WeldedMesh:

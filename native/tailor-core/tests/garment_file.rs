@@ -23,6 +23,7 @@ fn garment() -> Garment {
         angle_deg: 120.0,
         symmetry: Some(SymmetryLine { point: [0.0, 0.0], direction: [0.0, 1.0] }),
         threshold: 0.01,
+        radius: None,
     };
     let n = ms.rest.len();
     let mut g = Garment::default();

@@ -95,7 +95,7 @@ impl Garment {
     /// `pieces` with their target edge lengths, `seams` over piece indices, and per piece an
     /// optional placement (`{"translation", "rotation_deg", "flipped"}`, as `Piece.placement`;
     /// it overrides the piece's own) and bend (`{"axis_point", "axis_direction", "angle_deg",
-    /// "symmetry", "threshold"}`, as `set_bend` takes them) and the mesher that made its mesh
+    /// "symmetry", "threshold", "radius"}`, as `set_bend` takes them) and the mesher that made its mesh
     /// (`meshers`, default `MESHER_VERSION` for every piece; see `triangulate`). Every seam is
     /// checked against the meshes. `positions` (per piece an (n, 3) array or None): the piece
     /// as placed, used instead of placing and bending it (kept in the file as the painted map
@@ -237,8 +237,9 @@ impl Garment {
         })
     }
 
-    /// Bends piece `piece` after placement (see `tailor.bend`); `angle_deg = 0` removes it.
-    #[pyo3(signature = (piece, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0))]
+    /// Bends piece `piece` after placement (see `tailor.bend`); `angle_deg = 0` without a
+    /// `radius` removes it.
+    #[pyo3(signature = (piece, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None))]
     fn set_bend(
         &mut self,
         piece: usize,
@@ -247,14 +248,15 @@ impl Garment {
         angle_deg: f64,
         symmetry: Option<([f64; 2], [f64; 2])>,
         threshold: f64,
+        radius: Option<f64>,
     ) -> PyResult<()> {
         crate::errors::guard(|| {
             let n = self.inner.pieces.len();
             let p = self.inner.pieces.get_mut(piece).ok_or_else(|| {
                 to_py(TailorError::setting("piece", piece, format!("must be a piece index below {n}")))
             })?;
-            let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
-            p.bend = if angle_deg == 0.0 { None } else { Some(params) };
+            let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold, radius);
+            p.bend = if angle_deg == 0.0 && radius.is_none() { None } else { Some(params) };
             Ok(())
         })
     }
@@ -526,12 +528,17 @@ fn bend_from(d: &Bound<'_, PyDict>) -> PyResult<BendParams> {
         Some(v) => v.extract()?,
         None => 0.0,
     };
+    let radius: Option<f64> = match d.get_item("radius")? {
+        Some(v) if !v.is_none() => Some(v.extract()?),
+        _ => None,
+    };
     Ok(bend_params(
         item(d, "axis_point", "bend")?.extract()?,
         item(d, "axis_direction", "bend")?.extract()?,
         item(d, "angle_deg", "bend")?.extract()?,
         symmetry,
         threshold,
+        radius,
     ))
 }
 
@@ -541,6 +548,7 @@ fn bend_params(
     angle_deg: f64,
     symmetry: Option<([f64; 2], [f64; 2])>,
     threshold: f64,
+    radius: Option<f64>,
 ) -> BendParams {
     BendParams {
         axis_point,
@@ -548,13 +556,16 @@ fn bend_params(
         angle_deg,
         symmetry: symmetry.map(|(point, direction)| SymmetryLine { point, direction }),
         threshold,
+        radius,
     }
 }
 
-/// Bends a placed piece around an axis (paper Fig. 4); returns the new (n, 3) positions.
-/// `symmetry` = ((x, y), (dx, dy)), a rest-frame line whose sides bend in opposite senses.
+/// Rolls a flat placed piece onto a cylinder round an axis, keeping lengths along it (paper
+/// Fig. 4, made isometric: `tailor_core::bend`); returns the new (n, 3) positions.
+/// `symmetry` = ((x, y), (dx, dy)), a rest-frame line whose sides roll in opposite senses;
+/// `radius` sets the cylinder instead of `angle_deg`.
 #[pyfunction]
-#[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0))]
+#[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn bend<'py>(
     py: Python<'py>,
@@ -565,11 +576,12 @@ pub fn bend<'py>(
     angle_deg: f64,
     symmetry: Option<([f64; 2], [f64; 2])>,
     threshold: f64,
+    radius: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     crate::errors::guard(|| {
         let mut p = points3(positions, "positions")?;
         let r = points2(rest, "rest")?;
-        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold);
+        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold, radius);
         bend_piece(&mut p, &r, &params).map_err(to_py)?;
         rows(py, &p)
     })

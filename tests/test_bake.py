@@ -300,6 +300,8 @@ def test_records_say_which_backend_solved_each_frame(tube):
     assert run.summary()["backends"] == {"cpu": 3}
     # Where each solved frame's time went: the stages sum to their total, within the frame's.
     assert run.records[0]["stages_ms"] is None
+    # No collider: nothing rests on a body, so no contact motion.
+    assert all(r["contact_motion_m"] is None for r in run.records)
     for r in run.records[1:]:
         st = r["stages_ms"]
         parts = st["prediction"] + st["local"] + st["global"] + st["damping"]

@@ -465,6 +465,9 @@ class Bake:
         rec["backend"] = None if stats is None else stats.get("backend")
         rec["backend_warning"] = None if stats is None else stats.get("warning")
         rec["stages_ms"] = None if stats is None else stage_ms(stats)
+        # How far the particles resting on a body moved this frame (median): on a still body,
+        # the drape's jitter at rest.
+        rec["contact_motion_m"] = None if stats is None else stats.get("contact_motion_m")
         self.frames.append(pos)
         self.records.append(rec)
         return rec

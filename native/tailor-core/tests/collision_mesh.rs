@@ -407,3 +407,35 @@ fn bad_collider_input_is_refused_with_typed_errors() {
     assert!(matches!(e, TailorError::InvalidSetting { .. }), "{e}");
     sim.step(1.0 / FPS).unwrap();
 }
+
+/// The step reports how far the particles resting on a mesh collider moved (issue 23's rest
+/// jitter): nothing without a collider; on a still sphere, once the sheet has settled, far
+/// less than while it landed; on the sphere moved rigidly, about the sphere's own motion (the
+/// resting particles ride on it).
+#[test]
+fn steps_report_the_motion_of_the_particles_resting_on_the_body() {
+    let (sv, st) = icosphere(3, 0.3, Vec3::ZERO);
+    let (p, r, t) = cloth_grid(0.5, 14, 0.05, 0.0, 0.33);
+    let mut free = sim_of(p.clone(), r.clone(), t.clone(), SolverSettings::default());
+    assert_eq!(free.step(1.0 / FPS).unwrap().contact_motion, None, "no collider, no contact motion");
+    let mut sim = sim_of(p, r, t, SolverSettings::default());
+    let id = sim.add_mesh_collider(&sv, &st, MeshColliderOptions::default()).unwrap();
+    let motion: Vec<Option<f32>> = (0..90).map(|_| sim.step(1.0 / FPS).unwrap().contact_motion).collect();
+    let first = motion.iter().position(|m| m.is_some()).expect("the sheet never touched the sphere");
+    let landing = motion[first].unwrap();
+    let settled = motion[80..].iter().map(|m| m.expect("the settled sheet left the sphere")).fold(0.0, f32::max);
+    println!("contact motion: landing {landing:.2e} m, settled at most {settled:.2e} m a frame");
+    assert!(landing > 0.0 && settled < 0.5 * landing, "landing {landing}, settled {settled}");
+    // The sphere moves 4 mm a frame sideways: the resting particles ride along.
+    let step = 0.004;
+    let mut ride = Vec::new();
+    for f in 1..=10 {
+        let off = Vec3::new(step * f as f32, 0.0, 0.0);
+        let m: Vec<[f32; 3]> = sv.iter().map(|v| (Vec3::from(*v) + off).into()).collect();
+        sim.set_collider_positions(id, &m).unwrap();
+        ride.push(sim.step(1.0 / FPS).unwrap().contact_motion.expect("the sheet left the moving sphere"));
+    }
+    let late = &ride[5..];
+    println!("riding: {late:?}");
+    assert!(late.iter().all(|&m| m > 0.5 * step && m < 1.5 * step), "{late:?} against {step} a frame");
+}

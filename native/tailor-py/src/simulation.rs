@@ -151,6 +151,7 @@ pub(crate) fn stats_dict<'py>(py: Python<'py>, s: &StepStats, adapter: Option<St
     d.set_item("seam_gap_max", s.seam_gap_max)?;
     d.set_item("seam_closed_fraction", s.seam_closed_fraction)?;
     d.set_item("contacts", s.contacts)?;
+    d.set_item("contact_motion_m", s.contact_motion)?;
     d.set_item("dispatches", s.dispatches)?;
     d.set_item("collision", crate::colliders::collision_stats_dict(py, &s.collision)?)?;
     Ok(d)

@@ -35,6 +35,10 @@ pub struct StepStats {
     pub seam_closed_fraction: f32,
     /// Particles in contact with a collider at the end of the step.
     pub contacts: usize,
+    /// Median distance the particles touching a mesh collider at the end of the step moved
+    /// during it, metres (`None`: none touch it, or the GPU ran the step). Against a still
+    /// body, the drape's jitter at rest (issue 23).
+    pub contact_motion: Option<f32>,
     /// Mesh-collider and self-collision work (times also counted in the stages above).
     pub collision: CollisionStats,
     /// The cloth was asleep: nothing was solved (see `sleep.rs`).

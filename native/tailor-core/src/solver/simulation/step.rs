@@ -53,6 +53,7 @@ impl Simulation {
         if self.sleep.asleep {
             self.time += dt as f64;
             self.fill_stats(&mut stats);
+            stats.contact_motion = self.contact_motion(&self.x);
             stats.asleep = true;
             return Ok(stats);
         }
@@ -75,6 +76,7 @@ impl Simulation {
                     .into(),
             });
         }
+        stats.contact_motion = self.contact_motion(&backup.x);
         self.update_closing_holds()?;
         let quiet = !self.seams_closing && !self.collide.any_collider_moving();
         if self.sleep.after_step(self.v.max_length(), quiet) {
@@ -82,6 +84,22 @@ impl Simulation {
         }
         self.fill_stats(&mut stats);
         Ok(stats)
+    }
+
+    /// Median distance from `start` of the particles touching a mesh collider now (`None`
+    /// when none does).
+    fn contact_motion(&self, start: &Vec3Soa) -> Option<f32> {
+        let touching = |c: u32| c != u32::MAX && c & MESH_CONTACT != 0;
+        let mut moved: Vec<f32> = (0..self.x.len())
+            .filter(|&i| touching(self.contacts.collider[i]))
+            .map(|i| self.x.get(i).distance(start.get(i)))
+            .collect();
+        if moved.is_empty() {
+            return None;
+        }
+        let mid = moved.len() / 2;
+        let (_, m, _) = moved.select_nth_unstable_by(mid, f32::total_cmp);
+        Some(*m)
     }
 
     /// The end-of-step figures of `stats` that do not depend on the substeps.

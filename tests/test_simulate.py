@@ -298,6 +298,30 @@ def test_the_collider_animation_is_chosen_by_name(tmp_path):
     assert len(json.loads((tmp_path / "walk.json").read_text())["frames"]) == 2
 
 
+def test_loop_plays_the_collider_motion_over_again(tmp_path):
+    """Past the end of a PC2 cache the body holds its last pose; with `--loop` it starts over:
+    the garment then moves again with it (a ball that rises for 3 frames and repeats)."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=1)
+    rest, _ = tailor.read_mesh(str(body))
+    rest = np.asarray(rest, np.float32)
+    anim = tmp_path / "rise.pc2"
+    tailor.write_pc2(str(anim), np.stack([rest + [0.0, 0.01 * k, 0.0] for k in range(3)]).astype(np.float32))
+    shifts = {}
+    for loop in (False, True):
+        out = tmp_path / f"loop{loop}.json"
+        args = ["simulate", garment, "--collider", body, "--collider-anim", anim, "--frames", "8",
+                "--report", out, "--preset", "preview", "-o", tmp_path / f"loop{loop}.pc2"]
+        r = cli(*args, *(["--loop"] if loop else []))
+        assert r.returncode in (0, 3), r.stderr
+        shifts[loop] = [f["centroid_shift_m"] for f in json.loads(out.read_text())["frames"]]
+    held, looped = shifts[False], shifts[True]
+    assert held[:3] == looped[:3]  # the same frames while the cache lasts (frames 0-2)
+    assert held[3] != looped[3] and held[5:] != looped[5:], "--loop changed nothing past the cache's end"
+
+
 def test_usd_and_obj_outputs_are_the_welded_garment_with_uvs(tmp_path):
     """`--usd`: one welded mesh (no crack along the seams: each seam's two rows of particles are
     one row of points), its points sampled at every frame and equal to the PC2's frames welded,

@@ -1,13 +1,14 @@
 """``tailor simulate``: simulate a garment file on a collider mesh, headless.
 
     python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE | --animation NAME]
-        --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
+        [--loop] --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
         [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd] [--obj-dir DIR]
         [--assemble-at rest|start] [--preroll N] [--transition N] [--assembly-gravity]
 
 MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or the one
 ``--animation`` names); CACHE is a PC2 file of the collider's vertex positions per frame (both
-read by ``tailor.motion.ColliderMotion``).
+read by ``tailor.motion.ColliderMotion``). Past the clip's or cache's end the last pose holds;
+``--loop`` starts the motion over instead (a walk cycle walking on).
 Gravity points down the up axis: Y for OBJ and glTF files by their convention, Z for PLY,
 unless ``--up`` says. A garment file that states its up axis (``setup["up"]``: the add-on's
 exports say Z, Blender's) and a collider with the other one agree by turning the collider into
@@ -78,6 +79,8 @@ def register(sub):
     p.add_argument("--collider", metavar="MESH", required=True, help="OBJ, PLY or glTF/GLB collider")
     p.add_argument("--collider-anim", metavar="CACHE", help="PC2 file of collider positions per frame")
     p.add_argument("--animation", metavar="NAME", help="the glTF collider's animation to play (default: its first)")
+    p.add_argument("--loop", action="store_true",
+                   help="play the collider's animation or cache over again past its end (default: hold its last pose)")
     p.add_argument("--frames", type=int, required=True)
     p.add_argument("--fps", type=float, default=30.0)
     p.add_argument("--backend", choices=("auto", "cpu", "gpu"), default="auto")
@@ -150,7 +153,8 @@ def run(args):
         tolerance=preset.tolerance, gravity=gravity)
     if args.resume and not args.output:
         raise tailor.InvalidParameterError("--resume needs -o CACHE.pc2: the frames it goes on from")
-    motion = ColliderMotion(args.collider, args.collider_anim, animation=args.animation, fps=args.fps)
+    motion = ColliderMotion(args.collider, args.collider_anim, animation=args.animation, fps=args.fps,
+                            loop=args.loop)
     if collider_up != up:
         motion.turn(collider_up, up)
         print(f"simulate: the collider is {collider_up.upper()} up and the garment {up.upper()} up: the collider is "

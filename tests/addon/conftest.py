@@ -24,9 +24,9 @@ DATA = ROOT / "native" / "tailor-core" / "tests" / "data"
 MODULE = "bl_ext.user_default.tailor_addon"
 
 # The development install of `tailor` (maturin develop: a .pth entry pointing at
-# native/python) would shadow the wheel the extension installs.
+# native/python, possibly another git worktree's) would shadow the wheel the extension installs.
 _DEV = str(ROOT / "native" / "python")
-sys.path[:] = [p for p in sys.path if not p.startswith(_DEV)]
+sys.path[:] = [p for p in sys.path if not (p.startswith(_DEV) or Path(p).parts[-2:] == ("native", "python"))]
 assert "tailor" not in sys.modules, "run the add-on tests in their own process: make test-addon"
 
 USER_DIR = Path(tempfile.mkdtemp(prefix="tailor-blender-user-"))

@@ -11,7 +11,8 @@ from conftest import ROOT
 
 SCRIPT = textwrap.dedent("""
     import sys
-    sys.path[:] = [p for p in sys.path if not p.startswith({dev!r})]
+    # Any development install (a .pth entry to native/python, maybe another worktree's) goes.
+    sys.path[:] = [p for p in sys.path if not (p.startswith({dev!r}) or p.rstrip("/").endswith("native/python"))]
     sys.path.insert(0, {folder!r})
     import bpy
     import tailor_addon

@@ -1,4 +1,5 @@
-"""Every operator has a tooltip, undo, and a menu entry (F3 finds it); panels sit in the Tailor tab."""
+"""Every operator has a tooltip, a menu entry (F3 finds it) and Blender's undo/redo conventions;
+panels sit in the Tailor tab."""
 
 import bpy
 
@@ -18,13 +19,26 @@ def addon_classes(addon, base):
     return set(out)
 
 
+#: Operators that run a simulation: no redo panel (Adjust Last Operation would run it again).
+NO_REDO = {"tailor.bake", "tailor.live", "tailor.live_step", "tailor.live_stop"}
+#: File exporters: they change no data, so they push no undo step (as Blender's exporters).
+EXPORTERS = {"tailor.export_garment"}
+
+
 def test_operators_have_tooltips_undo_and_a_menu_entry(addon):
     ops = addon_classes(addon, bpy.types.Operator)
     assert len(ops) >= 12
+    assert NO_REDO | EXPORTERS <= {op.bl_idname for op in ops}
     in_menu = {e[0] for e in (*addon.menu.OPERATORS, *addon.menu.EXTRA) if e}
     for op in ops:
         assert op.bl_description and len(op.bl_description) > 20, op
-        assert {"REGISTER", "UNDO"} <= set(op.bl_options), op
+        options = set(op.bl_options)
+        if op.bl_idname in EXPORTERS:
+            assert "UNDO" not in options, op.bl_idname
+        elif op.bl_idname in NO_REDO:
+            assert "REGISTER" not in options and "UNDO" in options, (op.bl_idname, options)
+        else:
+            assert {"REGISTER", "UNDO"} <= options, op.bl_idname
         assert op.bl_idname in in_menu, op.bl_idname
         assert hasattr(bpy.types, op.__name__), f"{op.__name__} is not registered"
     assert addon.menu.menu_object in bpy.types.VIEW3D_MT_object._dyn_ui_initialize()

@@ -18,14 +18,15 @@ artist would:
      function) samples every ~20 ms of wall time: the frame, the frames Live applied, the
      garment's evaluated world centroid, the plate's location, and the gap since its previous
      call (the UI's responsiveness: timers only run when the main loop is free);
-  3. playback is stopped, a screenshot of the view with Live's overlay is taken, and an Esc
-     event ends Live.
+  3. playback is stopped, a screenshot of the view with Live's overlay is taken; playback
+     starts again and an Esc event stops it, not Live; Stop Live (`tailor.live_stop`) ends Live.
 
 Checks: frames were solved and applied while the timeline advanced; the overlay's fps is above
 zero and its text is drawn; the garment moved, stayed finite, and followed the plate (its
 centroid moved +x by a good part of the plate's travel and stayed on top of it); the largest
 gap between timer calls stayed under a generous bound (the main thread never waited for a
-solve); Esc ended Live and put the pieces' meshes back exactly. Writes `live_result.json` and
+solve); Esc stopped playback and left Live running; Stop Live ended Live (its modal operator
+too) and put the pieces' meshes back exactly. Writes `live_result.json` and
 `live_mode.png` (+ a 560-pixel `live_mode_small.png` for the docs) into `--out`; exits 0 only
 if every check passed.
 """
@@ -305,14 +306,25 @@ def scenario():
     check("... all along the slide", mid[3].mean(axis=0)[0] > c_start[0] + 0.25 * (mid[4].x - start.x),
           (mid[3].mean(axis=0)[0] - c_start[0], mid[4].x - start.x))
 
-    # ---- 3. screenshot with the overlay, then Esc ----------------------------------------------
+    # ---- 3. screenshot with the overlay; Esc stops playback, not Live; Stop Live ends it --------
     shot = screenshot("live_mode")
     RESULT["screenshots"].append(str(shot))
     small = small_copy(shot)
     RESULT["screenshots"].append(str(small))
-    key("ESC")
+    with override():
+        bpy.ops.screen.animation_play()
+    yield 0.3
+    # Over the 3D view, whose keymap (Frames) takes Esc for stopping playback.
+    _, _, region, _ = view3d()
+    key("ESC", x=region.x + region.width // 2, y=region.y + region.height // 2)
     yield 0.4
-    check("Esc ends Live", scene.name not in live.SESSIONS and not s.live_running)
+    check("Esc stops playback, not Live", not win.screen.is_animation_playing and live.SESSIONS.get(scene.name)
+          is session and s.live_running, (win.screen.is_animation_playing, s.live_running))
+    with override():
+        stopped = bpy.ops.tailor.live_stop()
+    yield 0.4
+    check("Stop Live ends Live", stopped == {"FINISHED"} and scene.name not in live.SESSIONS
+          and not s.live_running and not addon.simulate.runs.RUNNING, (stopped, s.live_running))
     for o in pieces:
         check(f"{o.name} restored", np.array_equal(mesh_co(o), before[o.name]))
     after = screenshot("live_stopped")

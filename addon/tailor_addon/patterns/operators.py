@@ -205,7 +205,8 @@ class TAILOR_OT_export_garment(bpy.types.Operator, ExportHelper):
         "collision levels, thickness and self-collision) as a Tailor garment file (.json + .bin) that the tailor "
         "module simulates without Blender"
     )
-    bl_options = {"REGISTER", "UNDO"}
+    # A file exporter changes no data: no undo step (as Blender's own exporters).
+    bl_options = {"REGISTER"}
 
     filename_ext = ".json"
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})

@@ -5,6 +5,8 @@
 - `job.py`: a bake (`tailor.bake.Bake` driven frame by frame, PC2 caches, Mesh Cache playback);
 - `live.py`, `draw.py`: Live mode's main-thread half and its overlay (the solver, its solves on
   native threads, is `core/simulate_live.py`);
+- `runs.py`: the modal bake's and Live's runs (timer, progress, how each ends or is cancelled);
+- `handlers.py`: runs end before a file is replaced;
 - `operators.py`, `ui.py`: the operators and the panel;
 - `export_welded.py`: Export Welded Garment (the pieces merged along their seams into one mesh
   at the current frame, optionally written as OBJ or glTF).
@@ -12,7 +14,7 @@
 The simulation itself is built by the bpy-free `core/simulate.py`.
 """
 
-from . import draw, export_welded, live, operators, properties, ui
+from . import draw, export_welded, handlers, live, operators, properties, runs, ui
 
 classes = properties.classes + operators.classes + export_welded.classes + ui.classes
 
@@ -34,12 +36,15 @@ def register() -> None:
     from .. import menu
 
     properties.register()
+    handlers.register()
     menu.EXTRA.extend(e for e in MENU if e not in menu.EXTRA)
 
 
 def unregister() -> None:
     from .. import menu
 
+    handlers.unregister()
+    runs.abandon_all()
     live.stop_all()
     draw.remove()
     menu.EXTRA[:] = [e for e in menu.EXTRA if e not in MENU]

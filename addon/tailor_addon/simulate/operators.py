@@ -7,8 +7,6 @@ stays as it was.
 
 from __future__ import annotations
 
-import os
-
 import bpy
 from bpy.props import BoolProperty, FloatProperty, IntProperty
 
@@ -16,16 +14,9 @@ from .. import scene_data
 from ..core import AddonError
 from ..core.errors import is_reportable
 from ..core.simulate import triangle_size_spread
-from ..core.simulate_live import LiveSolver
 from ..reporting import report, reports_errors
 from ..ui_common import redraw_view3d
-from . import draw, gather, job as bake_job, live
-
-
-def _status(context, text: str | None) -> None:
-    ws = getattr(context, "workspace", None)
-    if ws is not None:
-        ws.status_text_set(text)
+from . import draw, gather, job as bake_job, live, runs
 
 
 class TAILOR_OT_mark_collider(bpy.types.Operator):
@@ -139,13 +130,10 @@ class TAILOR_OT_bake(bpy.types.Operator):
         "Simulate the garment over the frame range into PC2 caches beside the .blend, played by Mesh Cache "
         "modifiers (Esc cancels, keeping the frames done)"
     )
-    bl_options = {"REGISTER", "UNDO"}
+    # No REGISTER: no Adjust Last Operation panel, whose redo would run the whole bake again.
+    bl_options = {"UNDO"}
 
     resume: BoolProperty(name="Resume", description="Continue from the last cached frame", default=False)
-
-    _job = None
-    _timer = None
-    _cancel = False
 
     def _begin(self, context):
         live.stop(context.scene)
@@ -154,10 +142,6 @@ class TAILOR_OT_bake(bpy.types.Operator):
         for w in job.warnings:
             self.report({"WARNING"}, w)
         return job, resumed
-
-    def _finish(self, context, job, cancelled: bool):
-        message = bake_job.finish(context.scene, job, cancelled)
-        self.report({"WARNING" if cancelled else "INFO"}, message)
 
     @reports_errors("Baking")
     def execute(self, context):
@@ -173,12 +157,12 @@ class TAILOR_OT_bake(bpy.types.Operator):
         except Exception:
             context.scene.frame_set(frame)  # the frames done are dropped: nothing was written
             raise
-        self._finish(context, job, cancelled=False)
+        self.report({"INFO"}, bake_job.finish(context.scene, job, cancelled=False))
         return {"FINISHED"}
 
     def invoke(self, context, event):
         try:
-            self._job, _ = self._begin(context)
+            job, _ = self._begin(context)
         except Exception as exc:
             if not is_reportable(exc):
                 raise
@@ -186,54 +170,32 @@ class TAILOR_OT_bake(bpy.types.Operator):
             return {"CANCELLED"}
         # The solve runs on a native thread (`LiveSolver`: no Python thread in Blender); each
         # timer tick only collects what it finished, evaluates the colliders and hands them over.
-        self._solver = LiveSolver(self._job.run, keep_frames=True)
-        self._error = None
-        wm = context.window_manager
-        self._total = self._job.end - self._job.start + 1
-        wm.progress_begin(0, self._total)
-        self._timer = wm.event_timer_add(0.02, window=context.window)
-        wm.modal_handler_add(self)
+        self._run = runs.BakeRun(context, job)
+        context.window_manager.modal_handler_add(self)
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
-        if event.type == "ESC":
+        if event.type == "ESC":  # a job: Esc cancels it (reported, the frames done kept)
             return self._end(context, cancelled=True)
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
-        job, solver = self._job, self._solver
-        res = solver.poll()
-        if res is not None and res.error is not None:
-            if not is_reportable(res.error):
-                self._end(context, cancelled=True)
-                raise res.error
-            report(self, res.error, "Baking")
-            return self._end(context, cancelled=True)
-        if not solver.busy:
-            if job.done:
-                return self._end(context, cancelled=False)
-            frame = job.run.next_frame
-            try:
-                positions = job.colliders_at(frame)
-            except Exception as exc:
-                if not is_reportable(exc):
-                    self._end(context, cancelled=True)
-                    raise
-                report(self, exc, "Baking")
-                return self._end(context, cancelled=True)
-            solver.submit(frame, positions)
-        done = len(job.run.frames)
-        context.window_manager.progress_update(done)
-        what = "assembling" if done == 0 else f"frame {job.run.next_frame}"
-        _status(context, f"Tailor: baking, {what} ({done}/{self._total} done), Esc cancels keeping the frames done")
-        return {"RUNNING_MODAL"}
+        try:
+            if not self._run.tick(context):
+                return {"RUNNING_MODAL"}
+        except Exception as exc:
+            self._end(context, cancelled=True)
+            if not is_reportable(exc):
+                raise
+            report(self, exc, "Baking")
+            return {"CANCELLED"}
+        return self._end(context, cancelled=False)
+
+    def cancel(self, context):
+        self._run.cancel(context)
 
     def _end(self, context, cancelled: bool):
-        self._solver.stop(timeout=None)  # lets the frame in progress finish: it is kept
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-        _status(context, None)
-        self._finish(context, self._job, cancelled)
+        # Cancelled: "Cancelled after frames ..., (Resume continues)", a warning in the status bar.
+        self.report({"WARNING" if cancelled else "INFO"}, self._run.end(context, cancelled))
         return {"CANCELLED"} if cancelled else {"FINISHED"}
 
 
@@ -262,45 +224,40 @@ class TAILOR_OT_live(bpy.types.Operator):
     bl_label = "Simulate Live"
     bl_description = (
         "The garment assembles and follows the character while the timeline plays or you scrub; edits to "
-        "fabric, settings and pins apply at once (Esc stops and restores the pieces)"
+        "fabric, settings and pins apply at once (Stop Live ends it and restores the pieces)"
     )
-    bl_options = {"REGISTER", "UNDO"}
-
-    _timer = None
+    # No REGISTER: no redo panel re-running a simulation. Undo: it writes into the pieces' meshes.
+    bl_options = {"UNDO"}
 
     def invoke(self, context, event):
         try:
-            live.start(context)
+            self._run = runs.LiveRun(context)
         except Exception as exc:
             if not is_reportable(exc):
                 raise
             report(self, exc, "Starting Live mode")
             return {"CANCELLED"}
-        draw.add()
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(1.0 / 60.0, window=context.window)
-        wm.modal_handler_add(self)
+        context.window_manager.modal_handler_add(self)
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
-        scene = context.scene
-        session = live.SESSIONS.get(scene.name)
-        if event.type == "ESC" or session is None or not scene.tailor_simulate.live_running:
-            return self._end(context)
+        # Esc is not Live's: during playback it stops playback (Blender's convention); Live
+        # ends with Stop Live (`tailor.live_stop`), which this sees as the session gone.
+        session = self._run.session
+        if session is None:
+            self._run.end(context)
+            return {"FINISHED"}
         if event.type == "TIMER":
             session.tick(context)
             if session.error is not None:
                 report(self, session.error, "Live simulation")
-                return self._end(context)
+                self._run.end(context)
+                return {"FINISHED"}
             redraw_view3d(context)
         return {"PASS_THROUGH"}
 
-    def _end(self, context):
-        context.window_manager.event_timer_remove(self._timer)
-        live.stop(context.scene)
-        draw.remove()
-        redraw_view3d(context)
-        return {"FINISHED"}
+    def cancel(self, context):
+        self._run.cancel(context)
 
 
 class TAILOR_OT_live_step(bpy.types.Operator):
@@ -310,7 +267,7 @@ class TAILOR_OT_live_step(bpy.types.Operator):
         "Live mode without the modal timer (scripts, tests): solve `count` frames off the main thread and "
         "apply each on the main thread, optionally advancing the timeline one frame each time"
     )
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"UNDO"}  # no redo panel: it would solve the frames again
 
     count: IntProperty(name="Frames", min=1, default=1)
     advance: BoolProperty(name="Advance Timeline", default=True)
@@ -334,7 +291,8 @@ class TAILOR_OT_live_stop(bpy.types.Operator):
     bl_idname = "tailor.live_stop"
     bl_label = "Stop Live"
     bl_description = "Stop Live mode and put the pieces back as they were"
-    bl_options = {"REGISTER", "UNDO"}
+    # No redo panel: redone after an undo, the session it stopped is gone (Keep Shape would do nothing).
+    bl_options = {"UNDO"}
 
     keep: BoolProperty(name="Keep Shape", description="Keep the simulated shape in the pieces", default=False)
 

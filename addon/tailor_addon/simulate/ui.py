@@ -22,6 +22,7 @@ class TAILOR_PT_simulate(TailorPanel, bpy.types.Panel):
         # Live and Bake first: the actions.
         row = layout.row(align=True)
         if s.live_running and scene.name in live.SESSIONS:
+            # Live's only stop (Esc stops playback, as everywhere in Blender).
             row.operator("tailor.live_stop", text="Stop Live", icon="PAUSE")
             st = live.SESSIONS[scene.name].stats()
             layout.label(text=f"{st['fps']:.1f} fps, seam gap {st['seam_gap_mm']:.2f} mm, "

@@ -86,6 +86,24 @@ def point_shader():
     raise RuntimeError("no flat-colour shader in this Blender")
 
 
+def move_modifier_first(obj, mod) -> None:
+    """Moves `mod` to the top of `obj`'s modifier stack. `ObjectModifiers.move` (Blender 4.x+)
+    needs no context; older versions (3.4) only have the operator, given the object."""
+    index = list(obj.modifiers).index(mod)
+    if index == 0:
+        return
+    if hasattr(obj.modifiers, "move"):
+        obj.modifiers.move(index, 0)
+    else:
+        move_modifier_by_operator(obj, mod)
+
+
+def move_modifier_by_operator(obj, mod) -> None:
+    """`object.modifier_move_to_index` on `obj` (what 3.4 has; 3.2+ has `temp_override`)."""
+    with bpy.context.temp_override(object=obj, active_object=obj):
+        bpy.ops.object.modifier_move_to_index(modifier=mod.name, index=0)
+
+
 def import_menu():
     return bpy.types.TOPBAR_MT_file_import
 

@@ -24,6 +24,7 @@ import numpy as np
 import tailor
 from tailor import bake
 
+from .. import compat
 from ..core import AddonError
 from ..core import simulate as core_sim
 from . import gather
@@ -183,6 +184,8 @@ class BakeJob:
             targets = [bpy.data.objects[n] for n in self.piece_names]
         for obj, path in zip(targets, rel):
             mod = obj.modifiers.get(MODIFIER) or obj.modifiers.new(MODIFIER, "MESH_CACHE")
+            # First in the stack: later modifiers (Subdivision, Solidify) work on the cached shape.
+            compat.move_modifier_first(obj, mod)
             mod.cache_format = "PC2"
             mod.filepath = path
             mod.play_mode = "SCENE"

@@ -140,7 +140,7 @@ def garment_arrays(scene, name: str) -> tuple[dict, list]:
     bv = gather.evaluated_positions(body, dg)
     bt = gather.evaluated_triangles(body, dg)
     fps = scene.render.fps / scene.render.fps_base
-    arrays = scenes.export(name, built.sim, pinned, bv, bt, tuple(scene.tailor_simulate.gravity), 0)
+    arrays = scenes.export(name, built.sim, pinned, bv, bt, gather.scene_gravity(scene), 0)
     f0 = fabrics[0]  # Blender's Cloth takes one material per object; Tailor takes the first piece's bending too
     s = scene.tailor_simulate
     arrays.update(density=np.float32(f0.density), stretch=np.float32(f0.stretch), shear=np.float32(f0.shear),

@@ -1,5 +1,5 @@
-"""What the simulation leaves in Blender's own data: the bake's Mesh Cache modifier first in the
-stack."""
+"""What the simulation takes from and leaves in Blender's own data: the bake's Mesh Cache
+modifier first in the stack, gravity from the scene (and older files' own gravity carried over)."""
 
 from __future__ import annotations
 
@@ -38,3 +38,29 @@ def test_moving_a_modifier_first_by_the_operator_as_blender_3_4_does(addon, scen
     cache = obj.modifiers.new("Cache", "MESH_CACHE")
     addon.compat.move_modifier_by_operator(obj, cache)
     assert [m.name for m in obj.modifiers] == ["Cache", "Subdivision", "Solidify"]
+
+
+def test_gravity_is_the_scenes(addon, scene):
+    gather = addon.simulate.gather
+    assert not hasattr(scene.tailor_simulate, "gravity")  # one gravity per scene: Blender's
+    scene.gravity = (0.5, -1.0, -3.75)  # exact in float32
+    scene.use_gravity = True
+    settings = gather.sim_settings(scene)
+    assert settings.gravity == (0.5, -1.0, -3.75)
+    assert tuple(settings.to_tailor().gravity) == (0.5, -1.0, -3.75)
+    scene.use_gravity = False  # the scene's Gravity off: none
+    assert gather.sim_settings(scene).gravity == (0.0, 0.0, 0.0)
+    assert tuple(gather.sim_settings(scene).to_tailor().gravity) == (0.0, 0.0, 0.0)
+
+
+def test_a_file_with_the_addons_own_gravity_opens_with_it_as_the_scenes(addon, scene, tmp_path):
+    # Files saved before the add-on used the scene's gravity keep theirs as an ID property.
+    scene.tailor_simulate["gravity"] = (0.0, 0.0, -4.0)
+    path = tmp_path / "old.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    scene = bpy.context.scene
+    assert tuple(scene.gravity) == (0.0, 0.0, -4.0)
+    assert "gravity" not in scene.tailor_simulate.keys()
+    assert addon.simulate.gather.sim_settings(scene).gravity == (0.0, 0.0, -4.0)

@@ -6,7 +6,7 @@
 - `live.py`, `draw.py`: Live mode's main-thread half and its overlay (the solver, its solves on
   native threads, is `core/simulate_live.py`);
 - `runs.py`: the modal bake's and Live's runs (timer, progress, how each ends or is cancelled);
-- `handlers.py`: runs end before a file is replaced;
+- `handlers.py`: runs end before a file is replaced; older files' settings carried over;
 - `operators.py`, `ui.py`: the operators and the panel;
 - `export_welded.py`: Export Welded Garment (the pieces merged along their seams into one mesh
   at the current frame, optionally written as OBJ or glTF).

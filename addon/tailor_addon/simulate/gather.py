@@ -24,7 +24,7 @@ def sim_settings(scene) -> SimSettings:
         iterations=s.iterations,
         tolerance=s.tolerance,
         backend=s.backend.lower(),
-        gravity=tuple(s.gravity),
+        gravity=scene_gravity(scene),
         air_damping=s.air_damping,
         ramp_enabled=s.ramp_enabled,
         ramp_closing_speed=s.ramp_closing_speed,
@@ -40,6 +40,12 @@ def sim_settings(scene) -> SimSettings:
         pin_mode=s.pin_mode,
         pin_stiffness=s.pin_stiffness,
     )
+
+
+def scene_gravity(scene) -> tuple[float, float, float]:
+    """The scene's gravity (Scene Properties), zero when the scene's Gravity is off: what
+    Blender's own physics use, so there is one gravity per scene."""
+    return tuple(scene.gravity) if scene.use_gravity else (0.0, 0.0, 0.0)
 
 
 def fabrics(objects) -> list[PieceFabric]:

@@ -1,8 +1,11 @@
-"""File handlers: runs end before a file is replaced.
+"""File handlers: runs end before a file is replaced; older files' settings are carried over.
 
 - `load_pre`: every modal run (the bake, Live) and Live session ends while the old file is
   still loaded. Blender cancels the modal operators later in the load, when the new file's
   data may already be in place, so their `cancel` touches no scene data (`runs.py`).
+- `load_post`: a file saved before the add-on took gravity from the scene kept its own in
+  `Scene.tailor_simulate["gravity"]` (an ID property the panel no longer has); it becomes the
+  scene's gravity, once, and the old value is removed.
 """
 
 from __future__ import annotations
@@ -12,13 +15,26 @@ from bpy.app.handlers import persistent
 
 from . import live, runs
 
+#: The ID property of files from before the scene's gravity was used.
+LEGACY_GRAVITY = "gravity"
+
+
 @persistent
 def end_runs(_filepath="") -> None:
     runs.abandon_all()
     live.stop_all()
 
 
-_HANDLERS = ((bpy.app.handlers.load_pre, end_runs),)
+@persistent
+def carry_over_settings(_filepath="") -> None:
+    for scene in bpy.data.scenes:
+        s = scene.tailor_simulate
+        if LEGACY_GRAVITY in s.keys():
+            scene.gravity = tuple(s[LEGACY_GRAVITY])
+            del s[LEGACY_GRAVITY]
+
+
+_HANDLERS = ((bpy.app.handlers.load_pre, end_runs), (bpy.app.handlers.load_post, carry_over_settings))
 
 
 def register() -> None:

@@ -7,7 +7,6 @@ from bpy.props import (
     BoolProperty,
     EnumProperty,
     FloatProperty,
-    FloatVectorProperty,
     IntProperty,
     PointerProperty,
     StringProperty,
@@ -87,7 +86,6 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         default="AUTO",
     )
     adapter: StringProperty(name="Adapter", description="The adapter the last simulation ran on")
-    gravity: FloatVectorProperty(name="Gravity", subtype="ACCELERATION", size=3, default=(0.0, 0.0, -9.81))
     air_damping: FloatProperty(
         name="Air Damping", description="Velocity damping per second once the seams are closed", min=0.0,
         default=_SETTINGS.air_damping, precision=3,

@@ -78,7 +78,12 @@ class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
         layout.prop(s, "backend")
         if s.adapter:
             layout.label(text=f"Adapter: {s.adapter}", icon="MEMORY")
-        layout.prop(s, "gravity")
+        # Gravity is the scene's (Scene Properties > Gravity), as Blender's own physics take it.
+        row = layout.row(align=True)
+        row.prop(context.scene, "use_gravity", text="Scene Gravity")
+        sub = row.row(align=True)
+        sub.active = context.scene.use_gravity
+        sub.prop(context.scene, "gravity", text="")
         layout.prop(s, "air_damping")
         layout.prop(s, "ramp_enabled")
         col = layout.column(align=True)

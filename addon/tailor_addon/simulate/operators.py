@@ -175,6 +175,9 @@ class TAILOR_OT_bake(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
+        if self._run.job is None:  # ended by the load_pre handler, and then the file did not load
+            self._run.cancel(context)
+            return {"CANCELLED"}
         if event.type == "ESC":  # a job: Esc cancels it (reported, the frames done kept)
             return self._end(context, cancelled=True)
         if event.type != "TIMER":

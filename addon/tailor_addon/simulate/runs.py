@@ -125,18 +125,19 @@ class LiveRun(_TimerRun):
     def session(self) -> live.LiveSession | None:
         return live.SESSIONS.get(self.scene_name)
 
-    def end(self, context, restore: bool = True) -> None:
-        """Stops the solver, puts the pieces back (`restore`), removes the overlay and timer."""
-        self.abandon(restore)
+    def end(self, context) -> None:
+        """Stops the solver, puts the pieces back, removes the overlay and timer."""
+        self.abandon()
         self._release(context)
         redraw_view3d(context)
 
-    def abandon(self, restore: bool = True) -> None:
-        """Stops the session, if it still runs, and removes the overlay (no window needed)."""
+    def abandon(self) -> None:
+        """Stops the session, if it still runs (the pieces put back), and removes the overlay
+        (no window needed)."""
         if self.scene_name in live.SESSIONS:
             scene = bpy.data.scenes.get(self.scene_name)
             if scene is not None:
-                live.stop(scene, restore)
+                live.stop(scene)
             else:
                 live.SESSIONS.pop(self.scene_name).stop(restore=False)
         draw.remove()

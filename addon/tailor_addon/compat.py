@@ -86,6 +86,11 @@ def point_shader():
     raise RuntimeError("no flat-colour shader in this Blender")
 
 
+#: Options of a path property that takes "//" (relative to the .blend): 4.5 warns on such a value
+#: unless the property says so; older versions have no such option.
+BLEND_RELATIVE_PATH = {"PATH_SUPPORTS_BLEND_RELATIVE"} if VERSION >= (4, 5, 0) else set()
+
+
 def move_modifier_first(obj, mod) -> None:
     """Moves `mod` to the top of `obj`'s modifier stack. `ObjectModifiers.move` (Blender 4.x+)
     needs no context; older versions (3.4) only have the operator, given the object."""

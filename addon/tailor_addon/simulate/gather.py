@@ -11,7 +11,7 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from .. import scene_data
+from .. import preferences, scene_data
 from ..core import AddonError
 from ..core.simulate import ColliderData, PieceFabric, SimSettings
 from ..paint.maps import collision_levels, painted_maps
@@ -23,7 +23,7 @@ def sim_settings(scene) -> SimSettings:
         substeps=s.substeps,
         iterations=s.iterations,
         tolerance=s.tolerance,
-        backend=s.backend.lower(),
+        backend=preferences.backend(scene),
         gravity=scene_gravity(scene),
         air_damping=s.air_damping,
         ramp_enabled=s.ramp_enabled,

@@ -24,7 +24,7 @@ import numpy as np
 import tailor
 from tailor import bake
 
-from .. import compat
+from .. import compat, preferences
 from ..core import AddonError
 from ..core import simulate as core_sim
 from . import gather
@@ -38,11 +38,11 @@ REPLAY_ATOL = 1e-5
 
 
 def cache_folder(scene) -> str:
-    s = scene.tailor_simulate
-    if s.cache_dir.startswith("//") and not bpy.data.filepath:
+    folder = preferences.cache_dir(scene)
+    if folder.startswith("//") and not bpy.data.filepath:
         raise AddonError("the .blend is not saved, so the cache has no folder beside it",
                          "Save the file first, or set an absolute Cache Folder")
-    return bpy.path.abspath(s.cache_dir)
+    return bpy.path.abspath(folder)
 
 
 def frame_range(scene) -> tuple[int, int]:

@@ -16,6 +16,8 @@ import tailor
 from tailor import bake
 
 from ..core.simulate import PRESETS, preset_values
+from ..compat import BLEND_RELATIVE_PATH
+from ..preferences import BACKENDS
 
 # Every default below is the module's (one source: tailor-core): the defaults of its settings,
 # its Final preset (the panel opens in Final), and the garment setup's defaults.
@@ -76,14 +78,12 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         min=0.0, default=_FINAL.tolerance,
         precision=6,
     )
+    # Numbered: files saved before "Preferences" was added keep their Auto/CPU/GPU.
     backend: EnumProperty(
         name="Backend",
-        items=(
-            ("AUTO", "Auto", "The GPU when the module has one and an adapter exists, else the CPU"),
-            ("CPU", "CPU", "Multi-threaded CPU solver"),
-            ("GPU", "GPU", "wgpu compute (Vulkan, Metal, DX12)"),
-        ),
-        default="AUTO",
+        items=(("PREFERENCES", "Preferences", "The add-on preferences' backend (Edit > Preferences > Add-ons)", 3),)
+        + BACKENDS,
+        default="PREFERENCES",
     )
     adapter: StringProperty(name="Adapter", description="The adapter the last simulation ran on")
     air_damping: FloatProperty(
@@ -161,8 +161,8 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         min=0, default=bake.DEFAULT_TRANSITION,
     )
     cache_dir: StringProperty(
-        name="Cache Folder", description="Where PC2 caches go (// = beside the .blend)", default="//tailor_cache",
-        subtype="DIR_PATH",
+        name="Cache Folder", description="Where PC2 caches go (// = beside the .blend); empty: the add-on "
+        "preferences' folder", default="", subtype="DIR_PATH", options=BLEND_RELATIVE_PATH,
     )
     cache_mode: EnumProperty(
         name="Cache",

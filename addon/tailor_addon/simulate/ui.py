@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import bpy
 
-from .. import scene_data
+from .. import preferences, scene_data
 from ..paint.maps import painted_maps
 from ..ui_common import TailorPanel
 from . import gather, live
@@ -134,6 +134,8 @@ class TAILOR_PT_simulate_bake(TailorPanel, bpy.types.Panel):
         row.prop(s, "frame_end")
         layout.prop(s, "preroll")
         layout.prop(s, "cache_dir")
+        if not s.cache_dir:
+            layout.label(text=f"Preferences' folder: {preferences.cache_dir(context.scene)}", icon="PREFERENCES")
         layout.prop(s, "cache_mode", expand=True)
         row = layout.row(align=True)
         row.operator("tailor.bake", icon="RENDER_ANIMATION")

@@ -160,6 +160,40 @@ def test_bend_rolls_a_piece_without_stretching_it():
         tailor.bend(pos, m.rest, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 10.0)
     with pytest.raises(tailor.InvalidParameterError):
         tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 10.0, radius=-1.0)
+    with pytest.raises(tailor.InvalidParameterError):
+        tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 10.0, mode="fold")
+    # The paper's rotation, kept for older files: it stretches, and bending back undoes it.
+    turned = tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 90.0, symmetry=sym, mode="rotate")
+    assert np.abs(lengths(turned) / lengths(pos) - 1.0).max() > 0.05
+    back = tailor.bend(turned, m.rest, axis, (0.0, 1.0, 0.0), -90.0, symmetry=sym, mode="rotate")
+    assert np.allclose(back, pos, atol=1e-5)
+
+
+def test_a_garment_files_bend_keeps_its_mode_and_older_files_rotate(tmp_path):
+    """A bend saved in a garment file comes back with its mode; a file written before the roll
+    (no `mode`) builds the paper's rotation, as it did."""
+    import json
+
+    g = tailor.Garment.from_pattern(str(SKIRT), edge=0.05)
+    g.set_bend(0, (0.0, 0.5, -0.1), (0.0, 1.0, 0.0), 60.0)
+    path = tmp_path / "g.json"
+    g.save(str(path))
+    rolled, _ = tailor.Garment.load(str(path)).build_simulation()
+    ref, _ = g.build_simulation()
+    np.testing.assert_array_equal(rolled.positions, ref.positions)
+    doc = json.loads(path.read_text())
+    bends = [p["bend"] for p in doc["pieces"] if p.get("bend")]
+    assert [b["mode"] for b in bends] == ["roll"]
+    for p in doc["pieces"]:
+        if p.get("bend"):
+            del p["bend"]["mode"]
+    old = tmp_path / "old.json"
+    old.write_text(json.dumps(doc))
+    turned, _ = tailor.Garment.load(str(old)).build_simulation()
+    g.set_bend(0, (0.0, 0.5, -0.1), (0.0, 1.0, 0.0), 60.0, mode="rotate")
+    want, _ = g.build_simulation()
+    np.testing.assert_array_equal(turned.positions, want.positions)
+    assert not np.allclose(turned.positions, rolled.positions, atol=1e-3)
 
 
 def test_file_errors_are_typed_and_name_the_file(tmp_path):

@@ -214,7 +214,13 @@ def bend_of(obj) -> dict | None:
         "angle_deg": math.degrees(p.bend_angle),
         "symmetry": (tuple(p.bend_symmetry_point), tuple(p.bend_symmetry_direction)) if p.bend_symmetry else None,
         "threshold": p.bend_threshold,
+        "mode": bend_mode(p),
     }
+
+
+def bend_mode(p) -> str:
+    """`tailor.bend`'s `mode` of a piece's stored bend (`TailorPieceSettings.bend_rolled`)."""
+    return "roll" if p.bend_rolled else "rotate"
 
 
 def garment_file(scene, garment: str | None = None):

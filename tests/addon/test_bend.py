@@ -58,10 +58,32 @@ def test_bend_matches_the_module_and_recomputes_from_flat(scene, addon):
         threshold=0.01,
     )
     np.testing.assert_allclose(local_positions(obj), ref2, atol=1e-5)
+    # The operator rolls (lengths kept), and says so to the garment file.
+    assert obj.tailor_piece.bend_rolled and addon.scene_data.bend_of(obj)["mode"] == "roll"
     # Angle 0 flattens.
     bpy.ops.tailor.bend(angle=0.0, **kw)
     np.testing.assert_allclose(local_positions(obj)[:, 2], 0.0, atol=1e-7)
     assert obj.tailor_piece.bend_angle == 0.0
+
+
+def test_a_piece_bent_before_the_roll_is_re_bent_as_it_was(scene, addon):
+    """A piece from a file bent before the isometric bend (no `bend_rolled`) keeps the paper's
+    rotation when its resolution changes, and its garment file says `rotate`."""
+    import tailor
+
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    bpy.context.view_layer.objects.active = obj
+    p = obj.tailor_piece
+    rest = addon.scene_data.rest_of(obj)
+    c = (rest.min(axis=0) + rest.max(axis=0)) / 2
+    p.bend_angle, p.bend_axis_point, p.bend_axis_direction = math.radians(40), (c[0], c[1], -0.1), (0, 1, 0)
+    assert not p.bend_rolled and addon.scene_data.bend_of(obj)["mode"] == "rotate"
+    bpy.ops.tailor.set_resolution(edge_length=0.04)
+    rest2 = addon.scene_data.rest_of(obj)
+    flat2 = np.c_[rest2, np.zeros(len(rest2), np.float32)]
+    args = (flat2, rest2, (float(c[0]), float(c[1]), -0.1), (0, 1, 0), 40.0)
+    np.testing.assert_allclose(local_positions(obj), tailor.bend(*args, mode="rotate"), atol=1e-5)
+    assert not np.allclose(tailor.bend(*args, mode="rotate"), tailor.bend(*args), atol=1e-3)
 
 
 def test_bad_bend_is_reported_and_changes_nothing(scene, addon):

@@ -121,6 +121,7 @@ class BendProperties:
         p.bend_axis_point, p.bend_axis_direction = self.axis_point, self.axis_direction
         p.bend_symmetry, p.bend_threshold = self.use_symmetry, self.threshold
         p.bend_symmetry_point, p.bend_symmetry_direction = self.symmetry_point, self.symmetry_direction
+        p.bend_rolled = True
         return {"FINISHED"}
 
 

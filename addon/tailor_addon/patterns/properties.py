@@ -60,6 +60,9 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
     bend_symmetry_point: FloatVectorProperty(name="Symmetry Point", size=2)
     bend_symmetry_direction: FloatVectorProperty(name="Symmetry Direction", size=2, default=(0.0, 1.0))
     bend_threshold: FloatProperty(name="Bend Threshold", subtype="DISTANCE", unit="LENGTH", min=0.0)
+    # How: rolled onto a cylinder, lengths kept (the Bend operator's); off in files bent before,
+    # whose pieces were rotated as in the paper and are re-bent so (`tailor.bend`'s `mode`).
+    bend_rolled: BoolProperty(name="Bend Rolled", default=False)
 
 
 classes = (TailorPieceSettings,)

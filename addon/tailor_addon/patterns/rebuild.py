@@ -32,6 +32,7 @@ def bent_positions(obj, mesh: tailor.PieceMesh, co: np.ndarray) -> np.ndarray:
         float(np.degrees(p.bend_angle)),
         symmetry=symmetry,
         threshold=p.bend_threshold,
+        mode=scene_data.bend_mode(p),
     )
 
 

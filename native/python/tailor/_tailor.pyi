@@ -421,6 +421,7 @@ class Garment:
         symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
         threshold: float = 0.0,
         radius: float | None = None,
+        mode: str = "roll",
     ) -> None: ...
     def build_simulation(
         self,
@@ -454,6 +455,7 @@ def bend(
     symmetry: tuple[Sequence[float], Sequence[float]] | None = None,
     threshold: float = 0.0,
     radius: float | None = None,
+    mode: str = "roll",
 ) -> F32: ...
 
 class WeldedMesh:

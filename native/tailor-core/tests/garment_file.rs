@@ -3,7 +3,7 @@
 mod common;
 
 use common::*;
-use tailor_core::bend::{BendParams, SymmetryLine};
+use tailor_core::bend::{BendMode, BendParams, SymmetryLine};
 use tailor_core::garment_file::*;
 use tailor_core::pattern::Placement;
 use tailor_core::seam::{path_between, Direction, Seam, SeamMode};
@@ -24,6 +24,7 @@ fn garment() -> Garment {
         symmetry: Some(SymmetryLine { point: [0.0, 0.0], direction: [0.0, 1.0] }),
         threshold: 0.01,
         radius: None,
+        mode: BendMode::Roll,
     };
     let n = ms.rest.len();
     let mut g = Garment::default();

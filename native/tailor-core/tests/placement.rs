@@ -38,7 +38,7 @@ fn placement_rotates_then_translates() {
 /// radius, where edges under 5 mm keep within 0.1 % (meshed at 2.5 mm here).
 #[test]
 fn sleeve_bent_round_an_arm_keeps_its_edge_lengths() {
-    use tailor_core::bend::{bend_piece, BendParams, SymmetryLine};
+    use tailor_core::bend::{bend_piece, BendMode, BendParams, SymmetryLine};
     let p = sleeve();
     let m = triangulate_piece(&p, &TriangulateOptions::new(0.0025)).unwrap();
     let flat: Vec<[f32; 3]> = m.rest.iter().map(|r| [r[0], r[1], 0.0]).collect();
@@ -60,6 +60,7 @@ fn sleeve_bent_round_an_arm_keeps_its_edge_lengths() {
                 symmetry: symmetric.then_some(SymmetryLine { point: [0.0, 0.0], direction: [0.0, 1.0] }),
                 threshold: 0.0,
                 radius: None,
+                mode: BendMode::Roll,
             };
             let mut pos = flat.clone();
             bend_piece(&mut pos, &m.rest, &params).unwrap();

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use tailor_core::bend::{bend_piece, BendParams, SymmetryLine};
+use tailor_core::bend::{bend_piece, BendMode, BendParams, SymmetryLine};
 use tailor_core::garment::{self as core, BuildOptions, Layout};
 use tailor_core::garment_file::setup::maps;
 use tailor_core::garment_file::{self, GarmentPiece, ParticleParam};
@@ -95,7 +95,7 @@ impl Garment {
     /// `pieces` with their target edge lengths, `seams` over piece indices, and per piece an
     /// optional placement (`{"translation", "rotation_deg", "flipped"}`, as `Piece.placement`;
     /// it overrides the piece's own) and bend (`{"axis_point", "axis_direction", "angle_deg",
-    /// "symmetry", "threshold", "radius"}`, as `set_bend` takes them) and the mesher that made its mesh
+    /// "symmetry", "threshold", "radius", "mode"}`, as `set_bend` takes them) and the mesher that made its mesh
     /// (`meshers`, default `MESHER_VERSION` for every piece; see `triangulate`). Every seam is
     /// checked against the meshes. `positions` (per piece an (n, 3) array or None): the piece
     /// as placed, used instead of placing and bending it (kept in the file as the painted map
@@ -239,7 +239,7 @@ impl Garment {
 
     /// Bends piece `piece` after placement (see `tailor.bend`); `angle_deg = 0` without a
     /// `radius` removes it.
-    #[pyo3(signature = (piece, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None))]
+    #[pyo3(signature = (piece, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None, mode="roll"))]
     fn set_bend(
         &mut self,
         piece: usize,
@@ -249,13 +249,22 @@ impl Garment {
         symmetry: Option<([f64; 2], [f64; 2])>,
         threshold: f64,
         radius: Option<f64>,
+        mode: &str,
     ) -> PyResult<()> {
         crate::errors::guard(|| {
             let n = self.inner.pieces.len();
             let p = self.inner.pieces.get_mut(piece).ok_or_else(|| {
                 to_py(TailorError::setting("piece", piece, format!("must be a piece index below {n}")))
             })?;
-            let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold, radius);
+            let params = bend_params(
+                axis_point,
+                axis_direction,
+                angle_deg,
+                symmetry,
+                threshold,
+                radius,
+                BendMode::parse(mode).map_err(to_py)?,
+            );
             p.bend = if angle_deg == 0.0 && radius.is_none() { None } else { Some(params) };
             Ok(())
         })
@@ -532,6 +541,10 @@ fn bend_from(d: &Bound<'_, PyDict>) -> PyResult<BendParams> {
         Some(v) if !v.is_none() => Some(v.extract()?),
         _ => None,
     };
+    let mode = match d.get_item("mode")? {
+        Some(v) if !v.is_none() => BendMode::parse(&v.extract::<String>()?).map_err(to_py)?,
+        _ => BendMode::Roll,
+    };
     Ok(bend_params(
         item(d, "axis_point", "bend")?.extract()?,
         item(d, "axis_direction", "bend")?.extract()?,
@@ -539,6 +552,7 @@ fn bend_from(d: &Bound<'_, PyDict>) -> PyResult<BendParams> {
         symmetry,
         threshold,
         radius,
+        mode,
     ))
 }
 
@@ -549,6 +563,7 @@ fn bend_params(
     symmetry: Option<([f64; 2], [f64; 2])>,
     threshold: f64,
     radius: Option<f64>,
+    mode: BendMode,
 ) -> BendParams {
     BendParams {
         axis_point,
@@ -557,6 +572,7 @@ fn bend_params(
         symmetry: symmetry.map(|(point, direction)| SymmetryLine { point, direction }),
         threshold,
         radius,
+        mode,
     }
 }
 
@@ -565,7 +581,7 @@ fn bend_params(
 /// `symmetry` = ((x, y), (dx, dy)), a rest-frame line whose sides roll in opposite senses;
 /// `radius` sets the cylinder instead of `angle_deg`.
 #[pyfunction]
-#[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None))]
+#[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None, mode="roll"))]
 #[allow(clippy::too_many_arguments)]
 pub fn bend<'py>(
     py: Python<'py>,
@@ -577,11 +593,13 @@ pub fn bend<'py>(
     symmetry: Option<([f64; 2], [f64; 2])>,
     threshold: f64,
     radius: Option<f64>,
+    mode: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     crate::errors::guard(|| {
         let mut p = points3(positions, "positions")?;
         let r = points2(rest, "rest")?;
-        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold, radius);
+        let mode = BendMode::parse(mode).map_err(to_py)?;
+        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold, radius, mode);
         bend_piece(&mut p, &r, &params).map_err(to_py)?;
         rows(py, &p)
     })

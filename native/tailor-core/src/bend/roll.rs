@@ -1,7 +1,4 @@
-//! Bending a placed piece around a user axis before simulation (paper Sec. 4, Fig. 4), so that
-//! a flat sleeve is wrapped around the arm instead of its seams cutting through it.
-//!
-//! The bend is isometric: the piece rolls onto a cylinder, each point keeping its distance
+//! The isometric bend ([`BendMode::Roll`], the default): the piece rolls onto a cylinder, each point keeping its distance
 //! along the surface, so nothing is stretched (the paper's rotation by an angle growing with
 //! the distance from the axis stretched a piece bent 15 degrees by 32 %).
 //!
@@ -39,39 +36,10 @@
 //! still measured against the true pattern. Bending always starts from the flat piece (the
 //! add-on keeps its flat positions); bending a bent piece again rolls it further.
 
-use serde::{Deserialize, Serialize};
-
+use super::BendParams;
 use crate::error::{Result, TailorError};
 
-/// A symmetry line in the piece's 2D rest frame (metres).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct SymmetryLine {
-    pub point: [f64; 2],
-    pub direction: [f64; 2],
-}
-
-/// Parameters of [`bend_piece`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct BendParams {
-    /// A point of the axis, metres (world frame).
-    pub axis_point: [f64; 3],
-    /// Direction of the axis (need not be unit length).
-    pub axis_direction: [f64; 3],
-    /// Turn of the farthest point, degrees (positive: rolled towards the axis). Ignored when
-    /// `radius` is given.
-    pub angle_deg: f64,
-    /// Roll both sides of this rest-frame line (parallel to the axis), in opposite senses.
-    pub symmetry: Option<SymmetryLine>,
-    /// Points within this distance along the surface of where the rolling starts (metres) do
-    /// not move.
-    pub threshold: f64,
-    /// Radius of the cylinder the piece rolls onto, metres (the angle then follows from it);
-    /// `None`: from `angle_deg`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radius: Option<f64>,
-}
-
-type V3 = [f64; 3];
+use super::V3;
 
 fn dot(a: V3, b: V3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -81,48 +49,8 @@ fn cross(a: V3, b: V3) -> V3 {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
-fn check(params: &BendParams) -> Result<V3> {
-    let d = params.axis_direction;
-    let dn = dot(d, d).sqrt();
-    if !(dn.is_finite() && dn > 1e-12) {
-        return Err(TailorError::setting("axis_direction", format!("{d:?}"), "must be a non-zero finite vector"));
-    }
-    if params.axis_point.iter().any(|c| !c.is_finite()) {
-        return Err(TailorError::setting("axis_point", format!("{:?}", params.axis_point), "must be finite"));
-    }
-    if !params.angle_deg.is_finite() {
-        return Err(TailorError::setting("angle_deg", params.angle_deg, "must be finite"));
-    }
-    if !(params.threshold.is_finite() && params.threshold >= 0.0) {
-        return Err(TailorError::setting("threshold", params.threshold, "must be a distance of 0 or more"));
-    }
-    if let Some(r) = params.radius {
-        if !(r.is_finite() && r > 0.0) {
-            return Err(TailorError::setting("radius", r, "must be a positive distance"));
-        }
-    }
-    if let Some(line) = params.symmetry {
-        let e = line.direction;
-        if !((e[0] * e[0] + e[1] * e[1]).sqrt() > 1e-12) || line.point.iter().chain(&e).any(|c| !c.is_finite()) {
-            return Err(TailorError::setting(
-                "symmetry",
-                format!("{line:?}"),
-                "needs a finite point and a non-zero direction",
-            ));
-        }
-    }
-    Ok(d.map(|c| c / dn))
-}
-
-/// Bends `positions` in place (see the module docs for the formula).
-pub fn bend_piece(positions: &mut [[f32; 3]], rest: &[[f32; 2]], params: &BendParams) -> Result<()> {
-    if positions.len() != rest.len() {
-        return Err(TailorError::shape(
-            "bend",
-            format!("{} positions for {} rest points", positions.len(), rest.len()),
-        ));
-    }
-    let d = check(params)?;
+/// Rolls `positions` in place (see the module docs for the formula); `d` the unit axis.
+pub(super) fn roll(positions: &mut [[f32; 3]], rest: &[[f32; 2]], params: &BendParams, d: V3) -> Result<()> {
     if positions.is_empty() || (params.radius.is_none() && params.angle_deg == 0.0) {
         return Ok(());
     }
@@ -267,6 +195,7 @@ fn arc_coordinates(t: &[f64], rest: &[[f32; 2]]) -> Result<ArcCoordinates> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::{bend_piece, BendMode, SymmetryLine};
     use super::*;
 
     /// A 0.4 × 0.3 sheet in the z = 0 plane, `nx × ny` vertices, and its triangles' edges.
@@ -303,6 +232,7 @@ mod tests {
             symmetry: symmetric.then_some(SymmetryLine { point: [0.0, 0.0], direction: [0.0, 1.0] }),
             threshold,
             radius: None,
+            mode: BendMode::Roll,
         }
     }
 

@@ -1,0 +1,173 @@
+//! Bending a placed piece around a user axis before simulation (paper Sec. 4, Fig. 4), so that
+//! a flat sleeve is wrapped around the arm instead of its seams cutting through it: rolled
+//! onto a cylinder, every length kept ([`roll`], the default), or rotated as in the paper
+//! ([`rotate`], which stretches the piece: garment files written before open as they were).
+
+mod roll;
+mod rotate;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, TailorError};
+
+/// A symmetry line in the piece's 2D rest frame (metres).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SymmetryLine {
+    pub point: [f64; 2],
+    pub direction: [f64; 2],
+}
+
+/// Parameters of [`bend_piece`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BendParams {
+    /// A point of the axis, metres (world frame).
+    pub axis_point: [f64; 3],
+    /// Direction of the axis (need not be unit length).
+    pub axis_direction: [f64; 3],
+    /// Turn of the farthest point, degrees (positive: rolled towards the axis). Ignored when
+    /// `radius` is given.
+    pub angle_deg: f64,
+    /// Roll both sides of this rest-frame line (parallel to the axis), in opposite senses.
+    pub symmetry: Option<SymmetryLine>,
+    /// Points within this distance along the surface of where the rolling starts (metres) do
+    /// not move.
+    pub threshold: f64,
+    /// Radius of the cylinder the piece rolls onto, metres (the angle then follows from it);
+    /// `None`: from `angle_deg`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Which bend: files written before the isometric bend have none and keep the paper's.
+    #[serde(default = "BendMode::of_older_files")]
+    pub mode: BendMode,
+}
+
+/// How a piece is bent.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BendMode {
+    /// Rolled onto a cylinder, every length along the piece kept ([`roll`]).
+    #[default]
+    Roll,
+    /// The paper's rotation, which stretches the piece ([`rotate`]): garment files from before.
+    Rotate,
+}
+
+impl BendMode {
+    /// What a garment file without a `mode` meant: the paper's bend, the only one then.
+    pub fn of_older_files() -> Self {
+        Self::Rotate
+    }
+
+    /// `"roll"` or `"rotate"`.
+    pub fn parse(name: &str) -> Result<Self> {
+        match name {
+            "roll" => Ok(Self::Roll),
+            "rotate" => Ok(Self::Rotate),
+            other => Err(TailorError::setting("mode", other, "expected \"roll\" or \"rotate\"")),
+        }
+    }
+}
+
+type V3 = [f64; 3];
+
+/// Bends `positions` in place by `params.mode`'s formula (see [`roll`] and [`rotate`]).
+pub fn bend_piece(positions: &mut [[f32; 3]], rest: &[[f32; 2]], params: &BendParams) -> Result<()> {
+    if positions.len() != rest.len() {
+        return Err(TailorError::shape(
+            "bend",
+            format!("{} positions for {} rest points", positions.len(), rest.len()),
+        ));
+    }
+    let d = check(params)?;
+    match params.mode {
+        BendMode::Roll => roll::roll(positions, rest, params, d),
+        BendMode::Rotate => rotate::rotate(positions, rest, params, d),
+    }
+}
+
+pub(super) fn check(params: &BendParams) -> Result<V3> {
+    let d = params.axis_direction;
+    let dn = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    if !(dn.is_finite() && dn > 1e-12) {
+        return Err(TailorError::setting("axis_direction", format!("{d:?}"), "must be a non-zero finite vector"));
+    }
+    if params.axis_point.iter().any(|c| !c.is_finite()) {
+        return Err(TailorError::setting("axis_point", format!("{:?}", params.axis_point), "must be finite"));
+    }
+    if !params.angle_deg.is_finite() {
+        return Err(TailorError::setting("angle_deg", params.angle_deg, "must be finite"));
+    }
+    if !(params.threshold.is_finite() && params.threshold >= 0.0) {
+        return Err(TailorError::setting("threshold", params.threshold, "must be a distance of 0 or more"));
+    }
+    if let Some(r) = params.radius {
+        if !(r.is_finite() && r > 0.0) {
+            return Err(TailorError::setting("radius", r, "must be a positive distance"));
+        }
+    }
+    if let Some(line) = params.symmetry {
+        let e = line.direction;
+        if !((e[0] * e[0] + e[1] * e[1]).sqrt() > 1e-12) || line.point.iter().chain(&e).any(|c| !c.is_finite()) {
+            return Err(TailorError::setting(
+                "symmetry",
+                format!("{line:?}"),
+                "needs a finite point and a non-zero direction",
+            ));
+        }
+    }
+    Ok(d.map(|c| c / dn))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sheet() -> (Vec<[f32; 3]>, Vec<[f32; 2]>) {
+        let rest: Vec<[f32; 2]> = (0..20).map(|k| [(k % 5) as f32 * 0.1 - 0.2, (k / 5) as f32 * 0.1]).collect();
+        (rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest)
+    }
+
+    fn params(angle: f64, mode: BendMode) -> BendParams {
+        BendParams {
+            axis_point: [0.0, 0.0, -0.1],
+            axis_direction: [0.0, 1.0, 0.0],
+            angle_deg: angle,
+            symmetry: None,
+            threshold: 0.0,
+            radius: None,
+            mode,
+        }
+    }
+
+    #[test]
+    fn bad_parameters_are_errors_in_either_mode() {
+        for mode in [BendMode::Roll, BendMode::Rotate] {
+            let (mut pos, rest) = sheet();
+            let bad = |q: BendParams, pos: &mut Vec<[f32; 3]>| {
+                matches!(bend_piece(pos, &rest, &q), Err(TailorError::InvalidSetting { .. }))
+            };
+            assert!(bad(BendParams { axis_direction: [0.0; 3], ..params(10.0, mode) }, &mut pos));
+            assert!(bad(params(f64::NAN, mode), &mut pos));
+            assert!(bad(BendParams { threshold: -1.0, ..params(10.0, mode) }, &mut pos));
+            assert!(bad(BendParams { radius: Some(0.0), ..params(10.0, mode) }, &mut pos));
+            assert!(matches!(
+                bend_piece(&mut pos[..3], &rest, &params(1.0, mode)),
+                Err(TailorError::ShapeMismatch { .. })
+            ));
+        }
+        assert!(BendMode::parse("fold").is_err());
+        assert_eq!(BendMode::parse("rotate").unwrap(), BendMode::Rotate);
+    }
+
+    /// A garment file's bend without a `mode` is the paper's (the only one when it was
+    /// written); one with it says which.
+    #[test]
+    fn bends_of_older_files_rotate() {
+        let old = r#"{"axis_point":[0,0,0],"axis_direction":[0,1,0],"angle_deg":40,"symmetry":null,"threshold":0.0}"#;
+        assert_eq!(serde_json::from_str::<BendParams>(old).unwrap().mode, BendMode::Rotate);
+        let new = serde_json::to_string(&params(40.0, BendMode::Roll)).unwrap();
+        assert!(new.contains(r#""mode":"roll""#), "{new}");
+        assert_eq!(serde_json::from_str::<BendParams>(&new).unwrap().mode, BendMode::Roll);
+        assert_eq!(BendParams { ..params(1.0, BendMode::default()) }.mode, BendMode::Roll);
+    }
+}

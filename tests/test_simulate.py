@@ -298,6 +298,28 @@ def test_the_collider_animation_is_chosen_by_name(tmp_path):
     assert len(json.loads((tmp_path / "walk.json").read_text())["frames"]) == 2
 
 
+def test_threads_are_the_solvers_and_change_no_result(tmp_path):
+    """`--threads 1`: the report says so, and the garment's frames are those of the default."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=1)
+    runs = {}
+    for threads in (None, 1):
+        out = tmp_path / f"t{threads}.json"
+        args = ["simulate", garment, "--collider", body, "--frames", "3", "--report", out, "--preset", "preview",
+                "-o", tmp_path / f"t{threads}.pc2", *(["--threads", str(threads)] if threads else [])]
+        r = cli(*args)
+        assert r.returncode in (0, 3), r.stderr
+        runs[threads] = json.loads(out.read_text())
+    assert runs[1]["threads"] == 1 and runs[None]["threads"] >= 1
+    frames = {t: tailor.read_pc2(str(tmp_path / f"t{t}.pc2"))["frames"] for t in runs}
+    np.testing.assert_array_equal(frames[None], frames[1])
+    r = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", tmp_path / "bad.json",
+            "--threads", "0")
+    assert r.returncode == 2 and "threads" in r.stderr, r.stderr
+
+
 def test_loop_plays_the_collider_motion_over_again(tmp_path):
     """Past the end of a PC2 cache the body holds its last pose; with `--loop` it starts over:
     the garment then moves again with it (a ball that rises for 3 frames and repeats)."""

@@ -30,6 +30,23 @@ def test_sewn_tube_closes_and_reports_stats(tube):
     assert p.dtype == np.float32 and p.shape == (sim.num_particles, 3) and np.isfinite(p).all()
 
 
+def test_a_simulation_runs_on_the_threads_it_is_given(tube):
+    """`set_threads(n)`: steps run on n threads of the simulation's own (each step says how
+    many) and reach the same state as on the process's pool; 0 or fewer is a typed error."""
+    sims = [make_tube_sim(tube) for _ in range(2)]
+    sims[0].set_threads(1)
+    assert sims[0].threads == 1 and sims[1].threads >= 1
+    for _ in range(6):
+        assert sims[0].step(1 / 30)["threads"] == 1
+        assert sims[1].step(1 / 30)["threads"] == sims[1].threads
+    assert sims[0].state_hash() == sims[1].state_hash()
+    for bad in (0, -1):
+        with pytest.raises(tailor.InvalidParameterError, match="threads"):
+            sims[0].set_threads(bad)
+    sims[0].set_threads(None)
+    assert sims[0].threads == sims[1].threads
+
+
 def test_step_frames_and_settings_round_trip(square):
     pos, tris, rest = square
     sim = tailor.Simulation(pos, tris, rest)

@@ -1,14 +1,14 @@
 """The add-on's preferences (Edit > Preferences > Add-ons > Tailor): what belongs to the machine
-or the studio rather than to one .blend, the solver backend and the default cache folder. A
-scene's Simulate settings use them unless set otherwise there (Backend *Preferences*, an empty
-Cache Folder), in the bake and in Live alike.
+or the studio rather than to one .blend: the solver backend, the default cache folder and the
+solver's CPU threads. A scene's Simulate settings use them unless set otherwise there (Backend
+*Preferences*, an empty Cache Folder), in the bake and in Live alike.
 
 (No `from __future__ import annotations`: property annotations must stay objects for the older
 registration code, see compat.py.)
 """
 
 import bpy
-from bpy.props import EnumProperty, StringProperty
+from bpy.props import EnumProperty, IntProperty, StringProperty
 
 from .compat import BLEND_RELATIVE_PATH
 
@@ -32,10 +32,16 @@ class TailorPreferences(bpy.types.AddonPreferences):
         "(// = beside the .blend)", default=DEFAULT_CACHE_DIR, subtype="DIR_PATH", options=BLEND_RELATIVE_PATH,
     )
 
+    threads: IntProperty(
+        name="Solver Threads", description="CPU threads of a simulation (0: one per core); results do not "
+        "depend on it, so a machine can be shared with other work", default=0, min=0, soft_max=64,
+    )
+
     def draw(self, context):
         layout = self.layout
         layout.prop(self, "backend")
         layout.prop(self, "cache_dir")
+        layout.prop(self, "threads")
 
 
 def current():
@@ -52,6 +58,12 @@ def backend(scene) -> str:
         prefs = current()
         chosen = prefs.backend if prefs is not None else "AUTO"
     return chosen.lower()
+
+
+def threads() -> int | None:
+    """The solver's CPU threads (`Simulation.set_threads`), None: one per core."""
+    prefs = current()
+    return prefs.threads if prefs is not None and prefs.threads > 0 else None
 
 
 def cache_dir(scene) -> str:

@@ -14,9 +14,9 @@ from simulate_scene import shirt_on_character
 def prefs(addon):
     """The add-on's preferences, put back as they were after the test (they outlive a file)."""
     p = bpy.context.preferences.addons[MODULE].preferences
-    saved = (p.backend, p.cache_dir)
+    saved = (p.backend, p.cache_dir, p.threads)
     yield p
-    p.backend, p.cache_dir = saved
+    p.backend, p.cache_dir, p.threads = saved
 
 
 def test_a_scene_takes_the_preferences_backend_unless_it_chooses_one(addon, scene, prefs):
@@ -48,9 +48,20 @@ def test_bake_and_live_use_the_preferences_folder_and_backend(addon, tmp_path, p
     s.cache_dir = "//own_cache"
     assert bpy.ops.tailor.bake() == {"FINISHED"}
     assert list((tmp_path / "own_cache").glob("*.pc2"))
-    # Live builds its solver with the same backend.
+    # Live builds its solver with the same backend, on the preferences' threads.
+    prefs.threads = 1
     assert bpy.ops.tailor.live_step(count=1) == {"FINISHED"}
     try:
-        assert addon.simulate.live.SESSIONS[scene.name].settings.backend == "cpu"
+        session = addon.simulate.live.SESSIONS[scene.name]
+        assert session.settings.backend == "cpu" and session.solver.run.sim.threads == 1
     finally:
         bpy.ops.tailor.live_stop()
+
+
+def test_solver_threads_are_one_per_core_unless_set(addon, scene, prefs):
+    """Solver Threads 0 leaves the module's pool (one thread per core); n is gathered for the
+    solver (the Live test above checks a simulation built on it)."""
+    gather = addon.simulate.gather
+    assert prefs.threads == 0 and gather.sim_settings(scene).threads is None
+    prefs.threads = 3
+    assert gather.sim_settings(scene).threads == 3

@@ -57,6 +57,7 @@ class SimSettings:
     iterations: int = _FINAL.iterations
     tolerance: float = _FINAL.tolerance
     backend: str = "auto"  # auto | cpu | gpu
+    threads: int | None = None  # the solver's CPU threads (None: one per core)
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
     air_damping: float | None = None
     ramp_enabled: bool = True
@@ -183,6 +184,8 @@ def build(
             raise AddonError(f"collider '{c.name}' has no faces", "Pick a mesh with faces as collider")
     g = garment_of(garment.tailor_garment(), "", settings, fabrics, maps)
     sim, _offsets = g.build_simulation(settings=settings.to_tailor(), backend=settings.backend, ride=bool(colliders))
+    if settings.threads is not None:
+        sim.set_threads(settings.threads)
     warnings = list(garment.warnings) + list(g.build_warnings)
     out = []
     for c in colliders:

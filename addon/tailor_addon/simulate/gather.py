@@ -24,6 +24,7 @@ def sim_settings(scene) -> SimSettings:
         iterations=s.iterations,
         tolerance=s.tolerance,
         backend=preferences.backend(scene),
+        threads=preferences.threads(),
         gravity=scene_gravity(scene),
         air_damping=s.air_damping,
         ramp_enabled=s.ramp_enabled,

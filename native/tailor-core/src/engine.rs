@@ -6,7 +6,7 @@
 //! It sits above both backends, so that neither imports it and the CPU solver never imports
 //! the GPU one (`tests/layers.rs`): `engine` → `gpu` → `solver`.
 
-use crate::error::Result;
+use crate::error::{Result, TailorError};
 use crate::quality::QualityMetrics;
 use crate::solver::{ActiveBackend, ColliderId, Simulation, StepStats, Vec3Soa};
 
@@ -42,6 +42,9 @@ pub struct Solver {
     #[cfg(feature = "gpu")]
     gpu: Option<crate::gpu::GpuSolver>,
     warning: Option<String>,
+    /// A thread pool of its own for the CPU's work (`set_threads`); `None`: rayon's global pool
+    /// (a thread per core, or `RAYON_NUM_THREADS`), shared with every other solver.
+    pool: Option<(usize, std::sync::Arc<rayon::ThreadPool>)>,
 }
 
 impl Solver {
@@ -55,9 +58,48 @@ impl Solver {
             #[cfg(feature = "gpu")]
             gpu: None,
             warning: None,
+            pool: None,
         };
         s.choose(options);
         s
+    }
+
+    /// Runs this solver's CPU work on `threads` threads of its own (`None`: the process's
+    /// global pool). A batch of simulations side by side gives each a share of the machine
+    /// this way, where the global pool is sized once per process; results do not depend on
+    /// the thread count (the solver's parallel loops split work in fixed chunks).
+    pub fn set_threads(&mut self, threads: Option<usize>) -> Result<()> {
+        self.pool = match threads {
+            None => None,
+            Some(0) => {
+                return Err(TailorError::setting("threads", 0, "must be at least 1 (None: one per core)"));
+            }
+            Some(n) => {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .thread_name(|i| format!("tailor-{i}"))
+                    .build()
+                    .map_err(|e| TailorError::setting("threads", n, format!("could not start the threads: {e}")))?;
+                Some((n, std::sync::Arc::new(pool)))
+            }
+        };
+        Ok(())
+    }
+
+    /// The threads the CPU's work runs on.
+    pub fn threads(&self) -> usize {
+        match &self.pool {
+            Some((n, _)) => *n,
+            None => rayon::current_num_threads(),
+        }
+    }
+
+    /// `f` on this solver's threads.
+    fn on_threads<R: Send>(&mut self, f: impl FnOnce(&mut Self) -> R + Send) -> R {
+        match self.pool.as_ref().map(|(_, p)| p.clone()) {
+            Some(pool) => pool.install(|| f(self)),
+            None => f(self),
+        }
     }
 
     #[cfg(not(feature = "gpu"))]
@@ -100,7 +142,7 @@ impl Solver {
     /// velocities brought back from the GPU first.
     pub fn metrics(&mut self, collider: Option<ColliderId>) -> Result<QualityMetrics> {
         self.sync_from_gpu();
-        self.sim.metrics(collider)
+        self.on_threads(|s| s.sim.metrics(collider))
     }
 
     /// The backend the next step will use.
@@ -141,8 +183,17 @@ impl Solver {
         None
     }
 
-    /// Advances by `dt` seconds on the active backend.
+    /// Advances by `dt` seconds on the active backend (the CPU's work on this solver's
+    /// threads, `set_threads`).
     pub fn step(&mut self, dt: f32) -> Result<StepStats> {
+        self.on_threads(|s| {
+            let mut st = s.step_here(dt)?;
+            st.threads = rayon::current_num_threads();
+            Ok(st)
+        })
+    }
+
+    fn step_here(&mut self, dt: f32) -> Result<StepStats> {
         #[cfg(feature = "gpu")]
         if self.gpu.is_some() && self.sim.backend_asleep() {
             // Asleep (`sleep.rs`, tested on the GPU's speeds as on the CPU's): nothing to solve,

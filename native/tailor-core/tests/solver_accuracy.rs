@@ -91,3 +91,37 @@ fn positions_are_deterministic() {
     assert_eq!(one, two, "1 and 2 threads differ");
     assert_eq!(a, two);
 }
+
+/// A solver's own threads (`Solver::set_threads`): its steps run on that many (the statistics
+/// say so, whatever the global pool), give the bits of any other thread count, and 0 threads
+/// is an error.
+#[test]
+fn a_solver_runs_on_the_threads_it_is_given() {
+    use tailor_core::engine::{Backend, Solver};
+    let run = |threads: Option<usize>| {
+        let tube = sewn_tube(0.3, 0.3, 0.03, 0.08, 0.0, 1000.0).unwrap();
+        let mut sim = Simulation::new(tube.mesh, Fabric::default(), SolverSettings::default()).unwrap();
+        for s in tube.seams {
+            sim.add_seam(s).unwrap();
+        }
+        let mut solver = Solver::new(sim, Backend::Cpu);
+        solver.set_threads(threads).unwrap();
+        let mut used = Vec::new();
+        for _ in 0..12 {
+            used.push(solver.step(1.0 / 30.0).unwrap().threads);
+        }
+        (solver.simulation().state_hash(), used, solver.threads())
+    };
+    let (one, used_one, t1) = run(Some(1));
+    let (three, used_three, t3) = run(Some(3));
+    let (global, used_global, _) = run(None);
+    assert!(used_one.iter().all(|&t| t == 1) && t1 == 1, "{used_one:?}");
+    assert!(used_three.iter().all(|&t| t == 3) && t3 == 3, "{used_three:?}");
+    assert!(used_global.iter().all(|&t| t == rayon::current_num_threads()), "{used_global:?}");
+    assert_eq!(one, three, "1 and 3 threads differ");
+    assert_eq!(one, global, "a pool of its own and the global pool differ");
+    let tube = sewn_tube(0.3, 0.3, 0.03, 0.08, 0.0, 1000.0).unwrap();
+    let sim = Simulation::new(tube.mesh, Fabric::default(), SolverSettings::default()).unwrap();
+    let mut solver = Solver::new(sim, Backend::Cpu);
+    assert!(solver.set_threads(Some(0)).is_err());
+}

@@ -152,6 +152,7 @@ pub(crate) fn stats_dict<'py>(py: Python<'py>, s: &StepStats, adapter: Option<St
     d.set_item("seam_closed_fraction", s.seam_closed_fraction)?;
     d.set_item("contacts", s.contacts)?;
     d.set_item("contact_motion_m", s.contact_motion)?;
+    d.set_item("threads", s.threads)?;
     d.set_item("dispatches", s.dispatches)?;
     d.set_item("collision", crate::colliders::collision_stats_dict(py, &s.collision)?)?;
     Ok(d)
@@ -196,6 +197,32 @@ impl Simulation {
             self.solver_mut()?.set_backend(SolverOptions { backend, ..Default::default() });
             Ok(())
         })
+    }
+
+    /// Runs the CPU's work of this simulation (its steps and metrics) on `threads` threads of
+    /// its own; None: the process's pool, one thread per core (or `RAYON_NUM_THREADS`). Results
+    /// do not depend on it.
+    #[pyo3(signature = (threads=None))]
+    fn set_threads(&mut self, threads: Option<i64>) -> PyResult<()> {
+        crate::errors::guard(|| {
+            let n = match threads {
+                Some(n) if n < 1 => {
+                    return Err(to_py(tailor_core::TailorError::setting(
+                        "threads",
+                        n,
+                        "must be at least 1 (None: one per core)",
+                    )))
+                }
+                other => other.map(|n| n as usize),
+            };
+            self.solver_mut()?.set_threads(n).map_err(to_py)
+        })
+    }
+
+    /// The CPU threads this simulation's work runs on.
+    #[getter]
+    fn threads(&self) -> PyResult<usize> {
+        crate::errors::guard(|| Ok(self.solver()?.threads()))
     }
 
     /// The backend the next step will use: "cpu" or "gpu".

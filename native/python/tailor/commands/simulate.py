@@ -84,6 +84,8 @@ def register(sub):
     p.add_argument("--frames", type=int, required=True)
     p.add_argument("--fps", type=float, default=30.0)
     p.add_argument("--backend", choices=("auto", "cpu", "gpu"), default="auto")
+    p.add_argument("--threads", type=int, metavar="N",
+                   help="CPU threads of the solver (default: one per core; results do not depend on it)")
     p.add_argument("--up", choices=("y", "z"), help="up axis (default: y for OBJ/glTF, z for PLY)")
     p.add_argument("--report", metavar="REPORT.json", required=True)
     p.add_argument("-o", "--output", metavar="CACHE.pc2",
@@ -171,6 +173,8 @@ def run(args):
                        thickness=args.thickness, self_collision=args.self_collision, collider_friction=None,
                        strict=False)
     sim, cid, pins = d.sim, d.collider, d.pins
+    if args.threads is not None:
+        sim.set_threads(args.threads)
     warnings += d.info["warnings"]
     setup = {k: v for k, v in d.info.items() if k in dressing.SETUP_KEYS}
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
@@ -223,7 +227,7 @@ def run(args):
 
     def report(complete: bool) -> dict:
         summary = bake.summarize(frames)
-        doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend,
+        doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend, "threads": sim.threads,
                "adapter": sim.adapter, "gpu_setup": sim.gpu_setup, **setup, "pins_attached": bool(pins.attached), "up": up,
                "collider_up": collider_up, "assembly": assembly, "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)

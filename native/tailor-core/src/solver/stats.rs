@@ -49,6 +49,8 @@ pub struct StepStats {
     pub warning: Option<String>,
     /// Compute dispatches the GPU recorded for the step (its frame plan's length; 0 on the CPU).
     pub dispatches: usize,
+    /// CPU threads the step ran on (`Solver::set_threads`; 0 when stepped without a `Solver`).
+    pub threads: usize,
 }
 
 /// Collision work of a step, summed over its substeps.

@@ -16,6 +16,7 @@ import tailor
 from tailor import bake
 
 from ..core.simulate import PRESETS, preset_values
+from . import garment_choice
 from ..compat import BLEND_RELATIVE_PATH
 from ..preferences import BACKENDS
 
@@ -58,6 +59,10 @@ class TailorColliderSettings(bpy.types.PropertyGroup):
 class TailorSimulateSettings(bpy.types.PropertyGroup):
     garment: StringProperty(
         name="Garment", description="Simulate only this garment (collection name); empty: every piece of the scene"
+    )
+    garment_choice: EnumProperty(
+        name="Garment", description="Simulate one of the scene's garments, or every piece",
+        items=garment_choice.items, get=garment_choice.get_number, set=garment_choice.set_number,
     )
     preset: EnumProperty(
         name="Quality",

@@ -30,7 +30,7 @@ class TAILOR_PT_simulate(TailorPanel, bpy.types.Panel):
         else:
             row.operator("tailor.live", text="Simulate Live", icon="PLAY")
         layout.prop(s, "show_overlay")
-        layout.prop(s, "garment")
+        layout.prop(s, "garment_choice")
 
 
 class TAILOR_PT_simulate_colliders(TailorPanel, bpy.types.Panel):

@@ -127,16 +127,22 @@ mod tests {
         (rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest)
     }
 
-    fn params(angle: f64, mode: BendMode) -> BendParams {
+    /// The bends the tests of both modes use: an axis along y, 10 cm below a sheet in z = 0,
+    /// symmetric about the rest line x = 0 when asked.
+    pub(super) fn sheet_params(angle: f64, symmetric: bool, threshold: f64, mode: BendMode) -> BendParams {
         BendParams {
             axis_point: [0.0, 0.0, -0.1],
             axis_direction: [0.0, 1.0, 0.0],
             angle_deg: angle,
-            symmetry: None,
-            threshold: 0.0,
+            symmetry: symmetric.then_some(SymmetryLine { point: [0.0, 0.0], direction: [0.0, 1.0] }),
+            threshold,
             radius: None,
             mode,
         }
+    }
+
+    fn params(angle: f64, mode: BendMode) -> BendParams {
+        sheet_params(angle, false, 0.0, mode)
     }
 
     #[test]

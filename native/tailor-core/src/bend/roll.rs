@@ -195,7 +195,7 @@ fn arc_coordinates(t: &[f64], rest: &[[f32; 2]]) -> Result<ArcCoordinates> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{bend_piece, BendMode, SymmetryLine};
+    use super::super::{bend_piece, BendMode};
     use super::*;
 
     /// A 0.4 × 0.3 sheet in the z = 0 plane, `nx × ny` vertices, and its triangles' edges.
@@ -225,15 +225,7 @@ mod tests {
     }
 
     fn params(angle: f64, symmetric: bool, threshold: f64) -> BendParams {
-        BendParams {
-            axis_point: [0.0, 0.0, -0.1],
-            axis_direction: [0.0, 1.0, 0.0],
-            angle_deg: angle,
-            symmetry: symmetric.then_some(SymmetryLine { point: [0.0, 0.0], direction: [0.0, 1.0] }),
-            threshold,
-            radius: None,
-            mode: BendMode::Roll,
-        }
+        super::super::tests::sheet_params(angle, symmetric, threshold, BendMode::Roll)
     }
 
     fn len(p: &[[f32; 3]], e: [usize; 2]) -> f64 {

@@ -94,15 +94,7 @@ mod tests {
     }
 
     fn params(angle: f64, symmetric: bool, threshold: f64) -> BendParams {
-        BendParams {
-            axis_point: [0.0, 0.0, -0.1],
-            axis_direction: [0.0, 1.0, 0.0],
-            angle_deg: angle,
-            symmetry: symmetric.then_some(SymmetryLine { point: [0.0, 0.0], direction: [0.0, 1.0] }),
-            threshold,
-            radius: None,
-            mode: BendMode::Rotate,
-        }
+        super::super::tests::sheet_params(angle, symmetric, threshold, BendMode::Rotate)
     }
 
     #[test]

@@ -104,3 +104,30 @@ def test_live_with_a_bad_setting_reports_and_changes_nothing(addon, live_scene):
     assert scene.name not in addon.simulate.live.SESSIONS and not scene.tailor_simulate.live_running
     for o in pieces:
         np.testing.assert_array_equal(mesh_co(o), before[o.name])
+
+
+def test_saving_during_live_keeps_the_pattern_placement_not_the_drape(addon, live_scene, tmp_path):
+    """A save while Live runs writes the pieces as they were before Live (read back from the
+    saved file), and the drape is back on them after the save."""
+    pieces = live_scene["pieces"]
+    before = {o.name: mesh_co(o) for o in pieces}
+    assert bpy.ops.tailor.live_step(count=2) == {"FINISHED"}
+    draped = {o.name: mesh_co(o) for o in pieces}
+    assert any(not np.allclose(draped[n], before[n]) for n in before), "Live moved nothing"
+    path = tmp_path / "saved_during_live.blend"
+    assert bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True) == {"FINISHED"}
+    for o in pieces:
+        np.testing.assert_array_equal(mesh_co(o), draped[o.name])
+    names = {o.data.name: o.name for o in pieces}
+    with bpy.data.libraries.load(str(path)) as (src, dst):
+        dst.meshes = [m for m in src.meshes if m in names]
+    assert len(dst.meshes) == len(pieces)
+    try:
+        for me in dst.meshes:
+            co = np.empty(len(me.vertices) * 3, np.float32)
+            me.vertices.foreach_get("co", co)
+            saved_as = names[me.name.rsplit(".", 1)[0] if me.name not in names else me.name]
+            np.testing.assert_array_equal(co.reshape(-1, 3), before[saved_as])
+    finally:
+        for me in dst.meshes:
+            bpy.data.meshes.remove(me)

@@ -3,6 +3,8 @@
 - `load_pre`: every modal run (the bake, Live) and Live session ends while the old file is
   still loaded. Blender cancels the modal operators later in the load, when the new file's
   data may already be in place, so their `cancel` touches no scene data (`runs.py`).
+- `save_pre` / `save_post`: a save during Live writes the pieces as they were before Live
+  (`LiveSession.hold_for_save`), and the drape is put back after it.
 - `load_post`: a file saved before the add-on took gravity from the scene kept its own in
   `Scene.tailor_simulate["gravity"]` (an ID property the panel no longer has); it becomes the
   scene's gravity, once, and the old value is removed.
@@ -34,7 +36,22 @@ def carry_over_settings(_filepath="") -> None:
             del s[LEGACY_GRAVITY]
 
 
-_HANDLERS = ((bpy.app.handlers.load_pre, end_runs), (bpy.app.handlers.load_post, carry_over_settings))
+@persistent
+def hold_live_for_save(_filepath="") -> None:
+    live.hold_all_for_save()
+
+
+@persistent
+def resume_live_after_save(_filepath="") -> None:
+    live.resume_all_after_save()
+
+
+_HANDLERS = (
+    (bpy.app.handlers.load_pre, end_runs),
+    (bpy.app.handlers.load_post, carry_over_settings),
+    (bpy.app.handlers.save_pre, hold_live_for_save),
+    (bpy.app.handlers.save_post, resume_live_after_save),
+)
 
 
 def register() -> None:

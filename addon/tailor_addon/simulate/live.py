@@ -10,7 +10,9 @@ one frame's gathering and writing.
 Edits apply without a restart: every tick compares the pieces' fabric and the panel's
 settings with what the solver has, and every `MAPS_EVERY` ticks re-reads the painted maps
 (pins, friction, mass); a change becomes an edit applied before the next frame starts.
-Stopping restores the pieces' meshes as they were before Live started.
+Stopping restores the pieces' meshes as they were before Live started, and so does saving the
+file during Live, for the save only (`hold_for_save`, from the save_pre handler): the .blend
+keeps the pattern's placement, not a frame of the drape.
 """
 
 from __future__ import annotations
@@ -46,11 +48,7 @@ class LiveSession:
         self.hard_pins = _hard_pins(self.tgarment)
         self.piece_names = [o.name for o in self.objects]
         # What Live overwrites, restored by `stop`.
-        self.original = []
-        for o in self.objects:
-            co = np.empty(len(o.data.vertices) * 3, np.float32)
-            o.data.vertices.foreach_get("co", co)
-            self.original.append(co)
+        self.original = [_local_co(o) for o in self.objects]
         self.solver = LiveSolver(bake.Bake(built.sim, built.colliders, self.settings.fps, scene.frame_current,
                                            pins=built.pins))
         self.ticks = 0
@@ -151,11 +149,43 @@ class LiveSession:
     def stop(self, restore: bool = True) -> None:
         self.solver.stop()
         if restore:
-            for name, co in zip(self.piece_names, self.original):
-                o = bpy.data.objects.get(name)
-                if o is not None and len(o.data.vertices) * 3 == len(co):
-                    o.data.vertices.foreach_set("co", co)
-                    o.data.update()
+            self._write(self.original)
+
+    def hold_for_save(self) -> None:
+        """Before the file is saved: the pieces as they were before Live (a save keeps the
+        pattern's placement, not a frame of the drape), the drape kept for `resume_after_save`."""
+        self._draped = [None if o is None else _local_co(o) for o in map(bpy.data.objects.get, self.piece_names)]
+        self._write(self.original)
+
+    def resume_after_save(self) -> None:
+        """After the save: the drape back on the pieces, Live going on where it was."""
+        self._write(getattr(self, "_draped", None) or [])
+        self._draped = None
+
+    def _write(self, positions: list) -> None:
+        """Flat local positions onto the pieces (by name; a piece gone or re-meshed is left)."""
+        for name, co in zip(self.piece_names, positions):
+            o = bpy.data.objects.get(name)
+            if co is not None and o is not None and len(o.data.vertices) * 3 == len(co):
+                o.data.vertices.foreach_set("co", co)
+                o.data.update()
+
+
+def _local_co(obj) -> np.ndarray:
+    """A mesh object's local vertex positions, flat."""
+    co = np.empty(len(obj.data.vertices) * 3, np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    return co
+
+
+def hold_all_for_save() -> None:
+    for session in SESSIONS.values():
+        session.hold_for_save()
+
+
+def resume_all_after_save() -> None:
+    for session in SESSIONS.values():
+        session.resume_after_save()
 
 
 def _same_maps(a: list[dict], b: list[dict], key: str) -> bool:

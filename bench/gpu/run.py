@@ -13,7 +13,10 @@ What a machine with a GPU runs once (issue 27: prepare here, run there), in minu
 
 Writes ``OUT/bench-gpu.md`` (the tables, the adapter, the command, the commit and the machine)
 and the raw reports beside it. Usage: ``python bench/gpu/run.py [--out out/bench-gpu]
-[--frames 90] [--sizes 10000 100000 1000000] [--budget 2] [--samples tshirt,skirt,trousers,layered]``.
+[--frames 90] [--sizes 10000 100000 1000000] [--budget 2] [--samples tshirt,skirt,trousers,layered]
+[--bench-bin PATH] [--timeout S]``. ``--bench-bin`` runs a prebuilt ``gpu_bench`` (a GPU machine
+without a Rust toolchain gets the binary built elsewhere); ``--timeout`` bounds each run, so a
+slow backend costs its row, not the table.
 """
 
 from __future__ import annotations
@@ -50,21 +53,31 @@ def machine() -> str:
 
 
 def commit() -> str:
-    r = sh(["git", "rev-parse", "--short", "HEAD"])
-    return r.stdout.strip() or "unknown"
+    """The checkout's commit, or ``TAILOR_BENCH_COMMIT`` where the tree is a copy without git."""
+    try:
+        r = sh(["git", "rev-parse", "--short", "HEAD"])
+        rev = r.stdout.strip() if r.returncode == 0 else ""
+    except OSError:
+        rev = ""
+    return rev or os.environ.get("TAILOR_BENCH_COMMIT", "unknown")
 
 
-def solver_table(sizes: list[str], budget: float) -> str:
+def solver_table(sizes: list[str], budget: float, bench_bin: str | None, timeout: float) -> str:
     """The core's benchmark with body and self collision (its Markdown table as printed)."""
-    cmd = ["cargo", "run", "--release", "-q", "-p", "tailor-core", "--features", "gpu", "--example", "gpu_bench",
-           "--", "--collisions", "--budget", str(budget), *sizes]
-    r = sh(cmd)
+    program = [bench_bin] if bench_bin else ["cargo", "run", "--release", "-q", "-p", "tailor-core", "--features",
+                                             "gpu", "--example", "gpu_bench", "--"]
+    cmd = [*program, "--collisions", "--budget", str(budget), *sizes]
+    try:
+        r = sh(cmd, timeout=timeout)
+    except subprocess.TimeoutExpired as e:
+        done = e.stdout.decode() if isinstance(e.stdout, bytes) else (e.stdout or "")
+        return f"`{' '.join(cmd)}` ran past {timeout:.0f} s; the rows it finished:\n\n{done}\n"
     if r.returncode != 0:
         return f"`{' '.join(cmd)}` failed:\n\n```\n{r.stderr[-2000:]}\n```\n"
     return f"`{' '.join(cmd)}`\n\n{r.stdout}\n"
 
 
-def sample_run(name: str, backend: str, frames: int, out: Path) -> dict:
+def sample_run(name: str, backend: str, frames: int, out: Path, timeout: float) -> dict:
     report = out / f"{name}-{backend}.json"
     cmd = [sys.executable, "-m", "tailor", "simulate", str(SAMPLES / f"{name}.json"), "--collider",
            str(SAMPLES / "character.glb"), "--frames", str(frames), "--backend", backend, "--preset", "final",
@@ -73,7 +86,10 @@ def sample_run(name: str, backend: str, frames: int, out: Path) -> dict:
            "--assemble-at", "start",
            "--report", str(report)]
     t0 = time.perf_counter()
-    r = sh(cmd)
+    try:
+        r = sh(cmd, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"error": [f"ran past {timeout:.0f} s"], "wall_s": time.perf_counter() - t0}
     wall = time.perf_counter() - t0
     if not report.exists():
         return {"error": (r.stderr or r.stdout).strip().splitlines()[-1:] or ["no report"], "wall_s": wall}
@@ -119,12 +135,12 @@ def agreement(g: dict, c: dict) -> str:
     return "agrees" if not bad else "differs: " + "; ".join(bad)
 
 
-def samples_table(names: list[str], frames: int, out: Path) -> tuple[str, str | None, bool]:
+def samples_table(names: list[str], frames: int, out: Path, timeout: float) -> tuple[str, str | None, bool]:
     rows = ["| sample | backend | frames solved (cpu / gpu) | ms/frame, assembled (median) | seam gap, mm | "
             "penetration, mm | strain max | verdict | GPU against CPU |", "|---|---|---|---:|---:|---:|---:|---|---|"]
     adapter, all_agree = None, True
     for name in names:
-        runs = {backend: sample_run(name, backend, frames, out) for backend in ("gpu", "cpu")}
+        runs = {backend: sample_run(name, backend, frames, out, timeout) for backend in ("gpu", "cpu")}
         agree = agreement(runs["gpu"], runs["cpu"])
         all_agree &= agree == "agrees"
         for backend, r in runs.items():
@@ -146,13 +162,17 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", nargs="*", default=["10000", "100000", "1000000"])
     ap.add_argument("--budget", type=float, default=2.0)
     ap.add_argument("--samples", default="tshirt,skirt,trousers,layered")
+    ap.add_argument("--bench-bin", default=None, help="a prebuilt gpu_bench instead of cargo run")
+    ap.add_argument("--timeout", type=float, default=600.0, help="seconds each run may take")
     args = ap.parse_args(argv)
     out = (REPO / args.out) if not Path(args.out).is_absolute() else Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     before = machine()
-    solver = solver_table(args.sizes, args.budget) if args.sizes else ""
-    samples, adapter, agree = samples_table([s for s in args.samples.split(",") if s], args.frames, out)
+    solver = solver_table(args.sizes, args.budget, args.bench_bin, args.timeout) if args.sizes else ""
+    (out / "solver.md").write_text(solver)  # kept even if the samples do not finish
+    samples, adapter, agree = samples_table([s for s in args.samples.split(",") if s], args.frames, out,
+                                            args.timeout)
     text = (f"# bench-gpu\n\nCommand: `python bench/gpu/run.py {' '.join(argv or sys.argv[1:])}` ({started}, commit "
             f"{commit()}). Machine: {before}; at the end: {machine()}. GPU adapter: {adapter or 'none'}.\n\n"
             f"## The solver alone, body and self collision\n\n{solver}\n"

@@ -158,14 +158,43 @@ impl ClosedMesh {
     }
 
     /// The distance hash, built on first use (its input was checked in [`ClosedMesh::new`]).
+    ///
+    /// The build is parallel. Reached first from inside a parallel loop (a rayon worker), it
+    /// must not run on that loop's workers: the others wait here for it, and this thread, while
+    /// waiting for the build's own jobs, could take a job of the loop that needs this very hash
+    /// (a deadlock, seen from 8 threads up: `tailor simulate` hung at its first frame on a
+    /// 16-core machine). There it is built on a thread outside every pool, in a one-thread pool
+    /// of its own, and waited for without taking work; [`ClosedMesh::prepare_queries`] before
+    /// a parallel loop keeps the build parallel.
     fn distance_hash(&self) -> &ColliderHash {
         self.hash.get_or_init(|| {
-            let mut h = ColliderHash::new();
-            // `check` passed on this input in `new`: the build files every triangle.
-            let built = h.build_checked(&self.vertices, &self.triangles, self.cell, InsertionRule::Aabb);
-            debug_assert!(built.is_ok(), "{built:?}");
-            h
+            if rayon::current_thread_index().is_none() {
+                return self.build_distance_hash();
+            }
+            std::thread::scope(|s| {
+                s.spawn(|| match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+                    Ok(pool) => pool.install(|| self.build_distance_hash()),
+                    Err(_) => self.build_distance_hash(),
+                })
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e))
+            })
         })
+    }
+
+    fn build_distance_hash(&self) -> ColliderHash {
+        let mut h = ColliderHash::new();
+        // `check` passed on this input in `new`: the build files every triangle.
+        let built = h.build_checked(&self.vertices, &self.triangles, self.cell, InsertionRule::Aabb);
+        debug_assert!(built.is_ok(), "{built:?}");
+        h
+    }
+
+    /// Builds the distance hash now, if no query has yet: before queries in a parallel loop,
+    /// so that the build runs in parallel (a first query from inside the loop builds it on one
+    /// thread, see `distance_hash`).
+    pub fn prepare_queries(&self) {
+        let _ = self.distance_hash();
     }
 
     /// Whether `p` is inside (ray parity along `+x`). Points exactly on the surface may go
@@ -341,25 +370,25 @@ impl ClosedMesh {
 
     /// Number of points inside and the largest distance of an inside point to the surface.
     pub fn penetration(&self, points: &[[f32; 3]]) -> Penetration {
+        let inside: Vec<[f32; 3]> = points.par_iter().copied().filter(|&p| self.contains(p)).collect();
+        if inside.is_empty() {
+            return Penetration::default();
+        }
+        // The distance queries below run in parallel: the hash first (`prepare_queries`).
+        self.prepare_queries();
         // Only the deepest point matters: a search may stop once it cannot beat the deepest
         // found so far (positive f32 bits order like the floats).
         let deepest = AtomicU32::new(0);
-        points
+        let max_depth = inside
             .par_iter()
             .map(|&p| {
-                if self.contains(p) {
-                    let floor = f32::from_bits(deepest.load(Ordering::Relaxed));
-                    let d = self.distance_unless_below(p, floor).0;
-                    deepest.fetch_max(d.to_bits(), Ordering::Relaxed);
-                    Penetration { count: 1, max_depth: d }
-                } else {
-                    Penetration::default()
-                }
+                let floor = f32::from_bits(deepest.load(Ordering::Relaxed));
+                let d = self.distance_unless_below(p, floor).0;
+                deepest.fetch_max(d.to_bits(), Ordering::Relaxed);
+                d
             })
-            .reduce(Penetration::default, |a, b| Penetration {
-                count: a.count + b.count,
-                max_depth: a.max_depth.max(b.max_depth),
-            })
+            .reduce(|| 0.0, f32::max);
+        Penetration { count: inside.len(), max_depth }
     }
 }
 
@@ -390,6 +419,49 @@ pub struct Penetration {
 mod tests {
     use super::*;
     use crate::test_util::{box_mesh, icosphere, Rng};
+
+    /// A fresh mesh's first queries, from a pool of many threads (more than this machine has
+    /// cores, as on a 16-core workstation): they answer instead of deadlocking on the lazy
+    /// hash build (which hung `tailor simulate` at its first frame on a 16-core machine).
+    #[test]
+    fn first_queries_from_many_threads_do_not_deadlock() {
+        // As many triangles as a character (its hash build splits across the workers).
+        let (v, t) = icosphere(6, 1.0);
+        // Inside, near the surface (a garment's few points through the body).
+        let points: Vec<[f32; 3]> = (0..20_000)
+            .map(|i| {
+                let (z, a) = (i as f32 / 20_000.0 * 1.8 - 0.9, i as f32 * 2.399);
+                let r = (0.95f32 * 0.95 - z * z).max(0.0).sqrt();
+                [r * a.cos(), r * a.sin(), z]
+            })
+            .collect();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(16).build().unwrap();
+            let answers: Vec<(usize, usize, usize)> = (0..2)
+                .map(|_| {
+                    let mesh = ClosedMesh::new(&v, &t).unwrap();
+                    let count = pool.install(|| mesh.penetration(&points)).count;
+                    let mesh = ClosedMesh::new(&v, &t).unwrap();
+                    // An unbounded distance takes the exact test, point by point in parallel.
+                    let near = pool.install(|| mesh.count_within(&points[..2000], f32::INFINITY));
+                    // A first query from inside someone else's parallel loop (the closing holds'),
+                    // on fresh meshes: the deadlock needed a worker to steal part of the build.
+                    let close = (0..10)
+                        .map(|_| {
+                            let mesh = ClosedMesh::new(&v, &t).unwrap();
+                            pool.install(|| points.par_iter().filter(|&&p| mesh.distance(p).0 < 0.1).count())
+                        })
+                        .min()
+                        .unwrap();
+                    (count, near, close)
+                })
+                .collect();
+            let _ = tx.send(answers);
+        });
+        let answers = rx.recv_timeout(std::time::Duration::from_secs(60)).expect("the queries deadlocked");
+        assert!(answers.iter().all(|&a| a == (20_000, 2000, 20_000)), "{answers:?}");
+    }
 
     #[test]
     fn inside_and_depth_for_a_sphere_and_a_box() {

@@ -65,6 +65,7 @@ pub fn count_within(mesh: &ClosedMesh, points: &[[f32; 3]], within: f32) -> usiz
         && hash.build_with(vertices.len(), reach, |i, emit| emit(cell_of(vertices[i], reach))).is_ok();
     if !usable {
         // NaN, negative or unbounded distances: the exact test answers them (mostly no).
+        mesh.prepare_queries();
         return points.par_iter().filter(|&&p| mesh.is_within(p, within)).count();
     }
     let near = |pv: Vec3, k: u32| {

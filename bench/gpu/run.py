@@ -88,10 +88,13 @@ def sample_run(name: str, backend: str, frames: int, out: Path, timeout: float) 
     t0 = time.perf_counter()
     try:
         r = sh(cmd, timeout=timeout)
-    except subprocess.TimeoutExpired:
+    except subprocess.TimeoutExpired as e:
+        err = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
+        print(f"{name} on {backend}: ran past {timeout:.0f} s; its last output:\n{err[-600:]}", flush=True)
         return {"error": [f"ran past {timeout:.0f} s"], "wall_s": time.perf_counter() - t0}
     wall = time.perf_counter() - t0
     if not report.exists():
+        print(f"{name} on {backend}: no report; its last output:\n{(r.stderr or r.stdout)[-600:]}", flush=True)
         return {"error": (r.stderr or r.stdout).strip().splitlines()[-1:] or ["no report"], "wall_s": wall}
     rep = json.loads(report.read_text())
     recs = rep["frames"]

@@ -10,6 +10,8 @@
 //!   --no-self        with --collisions: self-collision off (splits the two costs)
 //!   --budget S       seconds of timed frames per measurement (default 3; at least 1 frame)
 //!   --cpu-only / --gpu-only
+//!   --kernels        after the table, a profile: each kernel's GPU time in one frame (a
+//!                    timestamp after every dispatch), per size
 //! ```
 //!
 //! `ns/p·it` is frame time over particles × substeps × iterations. "empty frame" runs as many
@@ -38,11 +40,19 @@ struct Options {
     budget: f64,
     cpu: bool,
     gpu: bool,
+    kernels: bool,
 }
 
 fn options() -> Options {
-    let mut o =
-        Options { sizes: Vec::new(), collisions: false, self_collision: true, budget: 3.0, cpu: true, gpu: true };
+    let mut o = Options {
+        sizes: Vec::new(),
+        collisions: false,
+        self_collision: true,
+        budget: 3.0,
+        cpu: true,
+        gpu: true,
+        kernels: false,
+    };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -50,6 +60,7 @@ fn options() -> Options {
             "--no-self" => o.self_collision = false,
             "--cpu-only" => o.gpu = false,
             "--gpu-only" => o.cpu = false,
+            "--kernels" => o.kernels = true,
             "--budget" => o.budget = args.next().and_then(|s| s.parse().ok()).expect("--budget SECONDS"),
             n => o.sizes.push(n.parse().unwrap_or_else(|_| panic!("unknown argument {n}"))),
         }
@@ -166,6 +177,8 @@ fn main() {
         "| particles | colours | CPU ms/frame | CPU ns/p·it | GPU ms/frame | GPU ns/p·it | empty frame ms | dispatches | CPU/GPU | CPU stages ms | GPU stages ms |"
     );
     println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|");
+    // Per size: its particle count and each kernel's ms in one profiled frame.
+    let mut profiles: Vec<(usize, Vec<(&'static str, f64)>)> = Vec::new();
     for &n in &o.sizes {
         let mut probe = scene(n, o.collisions, o.self_collision);
         let n = probe.num_particles();
@@ -209,6 +222,19 @@ fn main() {
                     .1;
                 }
                 g.set_stage_timing(false);
+                if o.kernels && g.set_kernel_timing(true) {
+                    // The median frame of five, each kernel's time from the same frame.
+                    let mut frames: Vec<Vec<(&'static str, f64)>> = (0..5)
+                        .map(|f| {
+                            animate(&mut sim, last + 100 + f);
+                            let _ = g.step(&mut sim, DT);
+                            g.kernel_times().to_vec()
+                        })
+                        .collect();
+                    frames.sort_by(|a, b| total(a).total_cmp(&total(b)));
+                    profiles.push((n, frames.swap_remove(2)));
+                }
+                g.set_kernel_timing(false);
                 dispatches = g.dispatches_per_frame(s.substeps, s.iterations);
                 let _ = g.sync_velocities(&mut sim);
                 empty = (0..3)
@@ -230,5 +256,43 @@ fn main() {
         );
     }
     println!();
+    print_profiles(&profiles);
     println!("load average at the end: {}", load_average());
+}
+
+fn total(kernels: &[(&'static str, f64)]) -> f64 {
+    kernels.iter().map(|k| k.1).sum()
+}
+
+/// The profiles as one table: a row per kernel, a column per size (ms in one frame and the
+/// share of that frame's profiled time).
+fn print_profiles(profiles: &[(usize, Vec<(&'static str, f64)>)]) {
+    if profiles.is_empty() {
+        return;
+    }
+    println!("Profile: each kernel's GPU time in one frame (median of five profiled frames; a timestamp after every dispatch, so the total exceeds a plain frame's):");
+    println!();
+    let head: Vec<String> = profiles.iter().map(|(n, _)| format!("{n} particles, ms (share)")).collect();
+    println!("| kernel | {} |", head.join(" | "));
+    println!("|---|{}", "---:|".repeat(profiles.len()));
+    let mut names: Vec<&'static str> = Vec::new();
+    for (_, p) in profiles {
+        for (k, _) in p {
+            if !names.contains(k) {
+                names.push(k);
+            }
+        }
+    }
+    for name in names.iter().chain(std::iter::once(&"total")) {
+        let cells: Vec<String> = profiles
+            .iter()
+            .map(|(_, p)| {
+                let all = total(p);
+                let t = if *name == "total" { all } else { p.iter().find(|k| k.0 == *name).map_or(0.0, |k| k.1) };
+                format!("{:.2} ({:.0} %)", t * 1e3, 100.0 * t / all.max(1e-12))
+            })
+            .collect();
+        println!("| {name} | {} |", cells.join(" | "));
+    }
+    println!();
 }

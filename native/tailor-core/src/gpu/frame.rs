@@ -106,7 +106,12 @@ impl GpuSolver {
         let dispatches = plan.len();
         // Per-stage times where the device writes timestamps inside passes (and the frame's
         // marks fit one query set).
-        let marks = if stage_timed { plan::stage_marks(&plan) } else { Vec::new() };
+        let marks = match (stage_timed, self.kernel_timing) {
+            (true, true) => plan::kernel_marks(&plan),
+            (true, false) => plan::stage_marks(&plan),
+            (false, _) => Vec::new(),
+        };
+        let mark_kernels: Vec<&'static str> = marks.iter().map(|&(k, _)| plan[k].kernel).collect();
         let timed = self.timing.as_ref().filter(|_| !marks.is_empty() && marks.len() < timing::MAX_QUERIES as usize);
         let mut enc = self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let xbytes = n as u64 * VEC4;
@@ -153,7 +158,11 @@ impl GpuSolver {
         let stage_times = match timed {
             Some(t) => {
                 let ticks = map_read(&self.ctx.device, &t.read, (marks.len() as u64 + 1) * 8)?;
-                Some(timing::stage_times(&marks, bytemuck::cast_slice(&ticks), self.ctx.timestamp_period))
+                let ticks: &[u64] = bytemuck::cast_slice(&ticks);
+                if self.kernel_timing {
+                    self.kernel_times = timing::kernel_times(&mark_kernels, ticks, self.ctx.timestamp_period);
+                }
+                Some(timing::stage_times(&marks, ticks, self.ctx.timestamp_period))
             }
             None => None,
         };

@@ -174,6 +174,10 @@ pub struct GpuSolver {
     mesh_hash_valid: bool,
     /// Per-stage timestamps are written (`set_stage_timing`), and their query set once made.
     stage_timing: bool,
+    /// A timestamp after every dispatch instead (`set_kernel_timing`: a profile).
+    kernel_timing: bool,
+    /// The last timed frame's seconds per kernel, in the order each first ran.
+    kernel_times: Vec<(&'static str, f64)>,
     timing: Option<timing::Timing>,
 }
 
@@ -226,14 +230,16 @@ impl GpuSolver {
             dirty: true,
             mesh_hash_valid: false,
             stage_timing: std::env::var(timing::STAGE_TIMES_ENV).is_ok_and(|v| v == "1"),
+            kernel_timing: false,
+            kernel_times: Vec::new(),
             timing: None,
         })
     }
 
-    /// Whether frames report per-stage GPU times: stage timing is on and the device writes
-    /// timestamps inside passes.
+    /// Whether frames report per-stage GPU times: stage (or kernel) timing is on and the
+    /// device writes timestamps inside passes.
     pub fn timestamps(&self) -> bool {
-        self.stage_timing && self.ctx.timestamps
+        (self.stage_timing || self.kernel_timing) && self.ctx.timestamps
     }
 
     /// Turns per-stage GPU times on or off (off by default, or on with
@@ -243,6 +249,23 @@ impl GpuSolver {
     pub fn set_stage_timing(&mut self, on: bool) -> bool {
         self.stage_timing = on;
         self.timestamps()
+    }
+
+    /// Turns a profile on or off: a timestamp after every dispatch, so that each frame (while
+    /// its dispatches fit one query set) records the time of each kernel, read with
+    /// `kernel_times`; the per-stage times come from the same timestamps. The barriers the
+    /// timestamps add make a profiled frame slower than a plain one: read the shares, and time
+    /// frames with it off. Returns whether frames will be profiled.
+    pub fn set_kernel_timing(&mut self, on: bool) -> bool {
+        self.kernel_timing = on;
+        self.kernel_times.clear();
+        on && self.ctx.timestamps
+    }
+
+    /// The last profiled frame's seconds per kernel (`set_kernel_timing`), each kernel's
+    /// dispatches summed, in the order each first ran; empty before one.
+    pub fn kernel_times(&self) -> &[(&'static str, f64)] {
+        &self.kernel_times
     }
 
     /// How this backend's creation went: whether it made the shared context, and in how long.

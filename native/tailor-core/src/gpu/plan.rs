@@ -18,13 +18,15 @@ use super::{
 };
 use crate::solver::Stage;
 
-/// One dispatch: a stage's pipeline, its bind group, the workgroups to launch, and the CPU
-/// step's stage it belongs to (for the per-stage times the GPU's timestamps give).
+/// One dispatch: a stage's pipeline, its bind group, the workgroups to launch, the CPU
+/// step's stage it belongs to (for the per-stage times the GPU's timestamps give) and its
+/// kernel's name (for the per-kernel times of a profile, `GpuSolver::set_kernel_timing`).
 pub(super) struct Dispatch<'a> {
     pub pipeline: &'a wgpu::ComputePipeline,
     pub bind: &'a wgpu::BindGroup,
     pub groups: u32,
     pub stage: Stage,
+    pub kernel: &'static str,
 }
 
 /// Timestamp marks for a frame's plan: the first is before the first dispatch, and one
@@ -38,6 +40,12 @@ pub(super) fn stage_marks(plan: &[Dispatch<'_>]) -> Vec<(usize, Stage)> {
         }
     }
     marks
+}
+
+/// Timestamp marks for a profile: one after every dispatch, so that each interval is one
+/// kernel's (`Dispatch::kernel`) time.
+pub(super) fn kernel_marks(plan: &[Dispatch<'_>]) -> Vec<(usize, Stage)> {
+    plan.iter().enumerate().map(|(k, d)| (k, d.stage)).collect()
 }
 
 /// The dispatches of one frame of `substeps` × `iterations` for the uploaded scene `u`;
@@ -58,63 +66,74 @@ pub(super) fn frame<'a>(
     // self-collision the global one; resolve, velocities and the ramp the damping stage).
     let stage = std::cell::Cell::new(Stage::Prediction);
     let mut plan = Vec::new();
-    let mut add = |pipeline, bind, groups| plan.push(Dispatch { pipeline, bind, groups, stage: stage.get() });
+    let mut add =
+        |kernel, pipeline, bind, groups| plan.push(Dispatch { pipeline, bind, groups, stage: stage.get(), kernel });
     for _ in 0..substeps {
         stage.set(Stage::Prediction);
         if u.closing_scheduled {
             // Before `predict`, as `Simulation::predict` closes the seams first.
-            add(&pl.close_seams, &g.close_seams, 1);
+            add("close_seams", &pl.close_seams, &g.close_seams, 1);
         }
-        add(&pl.predict, &g.predict, groups(n, predict::WORKGROUP));
+        add("predict", &pl.predict, &g.predict, groups(n, predict::WORKGROUP));
         if rebuild_each_substep || rebuild_first {
             rebuild_first = false;
             let wg = mesh_hash::WORKGROUP;
-            add(&pl.mesh_lerp, &g.mesh_lerp, groups(u.n_mesh_verts, wg));
-            add(&pl.mesh_count, &g.mesh_count, groups(u.n_mesh_tris, wg));
-            add(&pl.hash_scan, &g.mesh_scan, 1);
-            add(&pl.mesh_scatter, &g.mesh_scatter, groups(u.n_mesh_tris, wg));
-            add(&pl.hash_sort, &g.mesh_sort, groups(u.mesh_buckets, hash::WORKGROUP));
+            add("mesh_lerp", &pl.mesh_lerp, &g.mesh_lerp, groups(u.n_mesh_verts, wg));
+            add("mesh_count", &pl.mesh_count, &g.mesh_count, groups(u.n_mesh_tris, wg));
+            add("mesh_scan", &pl.hash_scan, &g.mesh_scan, 1);
+            add("mesh_scatter", &pl.mesh_scatter, &g.mesh_scatter, groups(u.n_mesh_tris, wg));
+            add("mesh_sort", &pl.hash_sort, &g.mesh_sort, groups(u.mesh_buckets, hash::WORKGROUP));
         }
         if u.n_attach > 0 {
             // After `lerp`: the targets at this substep's collider positions.
-            add(&pl.attach, &g.attach, groups(u.n_attach, attach::WORKGROUP));
+            add("attach", &pl.attach, &g.attach, groups(u.n_attach, attach::WORKGROUP));
         }
         for k in 0..iterations {
             stage.set(Stage::Local);
             if u.early_stop && k > 0 {
-                add(&pl.gate, &g.gate, 1);
+                add("gate", &pl.gate, &g.gate, 1);
             }
             if u.n_colliders > 0 || u.n_meshes > 0 {
-                add(&pl.detect, &g.detect, groups(n, contacts::WORKGROUP));
+                add("detect", &pl.detect, &g.detect, groups(n, contacts::WORKGROUP));
             }
-            add(&pl.project, &g.project, groups(u.n_tris, project_triangles::WORKGROUP));
+            add("project", &pl.project, &g.project, groups(u.n_tris, project_triangles::WORKGROUP));
             if u.n_curved > 0 {
-                add(&pl.project_stencils, &g.project_stencils, groups(u.n_curved, project_stencils::WORKGROUP));
+                add(
+                    "project_stencils",
+                    &pl.project_stencils,
+                    &g.project_stencils,
+                    groups(u.n_curved, project_stencils::WORKGROUP),
+                );
             }
             stage.set(Stage::Global);
             for (c, range) in u.colours.iter().enumerate() {
-                add(&pl.gauss_seidel, &g.gauss_seidel[c], groups(range.count as usize, gauss_seidel::WORKGROUP));
+                add(
+                    "gauss_seidel",
+                    &pl.gauss_seidel,
+                    &g.gauss_seidel[c],
+                    groups(range.count as usize, gauss_seidel::WORKGROUP),
+                );
             }
-            add(&pl.reduce, &g.reduce, 1);
+            add("reduce", &pl.reduce, &g.reduce, 1);
             if u.method == Method::Chebyshev {
-                add(&pl.extrapolate, &g.extrapolate, groups(n, chebyshev::WORKGROUP));
+                add("extrapolate", &pl.extrapolate, &g.extrapolate, groups(n, chebyshev::WORKGROUP));
             }
             if u.self_enabled {
                 let wg = self_collide::WORKGROUP;
-                add(&pl.self_count, &g.self_count, groups(n, wg));
-                add(&pl.hash_scan, &g.self_scan, 1);
-                add(&pl.self_scatter, &g.self_scatter, groups(n, wg));
-                add(&pl.hash_sort, &g.self_sort, groups(u.self_buckets, hash::WORKGROUP));
-                add(&pl.self_gather, &g.self_gather, groups(n, wg));
-                add(&pl.self_apply, &g.self_apply, groups(n, wg));
+                add("self_count", &pl.self_count, &g.self_count, groups(n, wg));
+                add("self_scan", &pl.hash_scan, &g.self_scan, 1);
+                add("self_scatter", &pl.self_scatter, &g.self_scatter, groups(n, wg));
+                add("self_sort", &pl.hash_sort, &g.self_sort, groups(u.self_buckets, hash::WORKGROUP));
+                add("self_gather", &pl.self_gather, &g.self_gather, groups(n, wg));
+                add("self_apply", &pl.self_apply, &g.self_apply, groups(n, wg));
             }
         }
         stage.set(Stage::Damping);
         if u.n_meshes > 0 {
-            add(&pl.resolve_mesh, &g.resolve_mesh, groups(n, resolve_mesh::WORKGROUP));
+            add("resolve_mesh", &pl.resolve_mesh, &g.resolve_mesh, groups(n, resolve_mesh::WORKGROUP));
         }
-        add(&pl.finish, &g.finish, groups(n, super::finish::WORKGROUP));
-        add(&pl.ramp, &g.ramp, 1);
+        add("finish", &pl.finish, &g.finish, groups(n, super::finish::WORKGROUP));
+        add("ramp", &pl.ramp, &g.ramp, 1);
     }
     plan
 }

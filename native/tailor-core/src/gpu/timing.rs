@@ -56,6 +56,21 @@ pub(super) fn stage_times(marks: &[(usize, Stage)], ticks: &[u64], period: f32) 
     t
 }
 
+/// Seconds per kernel from a profiled frame's timestamps: `kernels[m]` names the dispatch
+/// that mark `m` follows (one mark per dispatch); each kernel's dispatches summed, in the order
+/// each first ran.
+pub(super) fn kernel_times(kernels: &[&'static str], ticks: &[u64], period: f32) -> Vec<(&'static str, f64)> {
+    let mut t: Vec<(&'static str, f64)> = Vec::new();
+    for (m, &name) in kernels.iter().enumerate() {
+        let s = ticks[m + 1].saturating_sub(ticks[m]) as f64 * period as f64 * 1e-9;
+        match t.iter_mut().find(|(k, _)| *k == name) {
+            Some(e) => e.1 += s,
+            None => t.push((name, s)),
+        }
+    }
+    t
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -69,5 +84,12 @@ mod tests {
         assert!((t[Stage::Local] - (40e-9 + 80e-9)).abs() < 1e-15);
         assert!((t[Stage::Global] - 60e-9).abs() < 1e-15);
         assert_eq!(t[Stage::Damping], 0.0);
+    }
+
+    #[test]
+    fn each_kernel_sums_its_dispatches_in_the_order_first_run() {
+        let t = kernel_times(&["predict", "sweep", "reduce", "sweep"], &[0, 5, 15, 16, 26], 1.0);
+        assert_eq!(t.iter().map(|e| e.0).collect::<Vec<_>>(), ["predict", "sweep", "reduce"]);
+        assert!((t[1].1 - 20e-9).abs() < 1e-15 && (t[2].1 - 1e-9).abs() < 1e-15);
     }
 }

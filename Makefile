@@ -23,7 +23,7 @@ test-rust:
 	# The wgpu backend (feature gpu) on lavapipe (installed by setup) or a real adapter:
 	# TAILOR_REQUIRE_GPU=1 makes a GPU test that finds no adapter fail instead of skipping.
 	TAILOR_REQUIRE_GPU=1 cargo test -p tailor-core --release --features gpu --test gpu_solver
-	cargo test -p tailor-core --release --features gpu --lib gpu::
+	TAILOR_REQUIRE_GPU=1 cargo test -p tailor-core --release --features gpu --lib gpu::
 
 test-python: develop
 	TAILOR_REQUIRE_GPU=1 $(PY) -m pytest -q tests --ignore=tests/addon --ignore=tests/gui

@@ -365,8 +365,9 @@ fn the_early_stop_runs_on_the_gpu_as_on_the_cpu() {
         let b = g.step(1.0 / 30.0).unwrap();
         assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: {:?}", b.warning);
         // The frame plan: per substep predict, finish, ramp, and per iteration project, the
-        // colours' sweeps, reduce (no extrapolation: Gauss-Seidel), a gate from the second on.
-        let per_iteration = 1 + b.colours + 1;
+        // colours' sweeps, the reduction's two passes (no extrapolation: Gauss-Seidel), a gate
+        // from the second on.
+        let per_iteration = 1 + b.colours + 2;
         let planned = b.substeps as usize * (3 + 30 * per_iteration + 29);
         assert_eq!((a.dispatches, b.dispatches), (0, planned), "frame {f}");
         assert!(

@@ -17,6 +17,8 @@ pub struct Buffers {
     pub cur: wgpu::Buffer,
     pub slots: wgpu::Buffer,
     pub norms: wgpu::Buffer,
+    /// The update norms' partial sums (`reduce_partial`), one per workgroup.
+    pub partials: wgpu::Buffer,
     pub idx: wgpu::Buffer,
     pub fdata: wgpu::Buffer,
     pub colours: wgpu::Buffer,
@@ -29,11 +31,15 @@ pub struct Buffers {
     pub mcounts: wgpu::Buffer,
     pub mtable: wgpu::Buffer,
     pub mesh_table_info: wgpu::Buffer,
+    /// The collider table's block sums (`hash.wgsl`'s scan), one per block of buckets.
+    pub mblocks: wgpu::Buffer,
     /// Self-collision: the particle table and each particle's averaged correction.
     pub scounts: wgpu::Buffer,
     pub stable: wgpu::Buffer,
     pub sdelta: wgpu::Buffer,
     pub self_table_info: wgpu::Buffer,
+    /// The particle table's block sums.
+    pub sblocks: wgpu::Buffer,
     /// Collider attachments (`attach.wgsl`) and their count.
     pub attachments: wgpu::Buffer,
     pub attach_info: wgpu::Buffer,
@@ -111,6 +117,7 @@ impl Buffers {
             cur: mk("cur", n * VEC4, storage),
             slots: mk("slots", caps.slots as u64 * VEC4, storage),
             norms: mk("norms", n * 8, storage),
+            partials: mk("partials", super::chebyshev::REDUCE as u64 * 8, storage),
             idx: mk("idx", caps.idx as u64 * 4, storage),
             fdata: mk("fdata", caps.fdata as u64 * 4, storage),
             colours: mk("colours", caps.colours.max(1) as u64 * colour_stride, U::UNIFORM | U::COPY_DST),
@@ -121,10 +128,12 @@ impl Buffers {
             mcounts: mk("mcounts", caps.mesh_buckets as u64 * 4, storage),
             mtable: mk("mtable", (caps.mesh_buckets + 1 + 4 * caps.mesh_entries) as u64 * 4, storage),
             mesh_table_info: mk("mesh_table_info", 16, U::UNIFORM | U::COPY_DST),
+            mblocks: mk("mblocks", super::hash::scan_blocks(caps.mesh_buckets) as u64 * 4, storage),
             scounts: mk("scounts", caps.self_buckets as u64 * 4, storage),
             stable: mk("stable", (caps.self_buckets + 1 + 4 * n as usize) as u64 * 4, storage),
             sdelta: mk("sdelta", n * VEC4, storage),
             self_table_info: mk("self_table_info", 16, U::UNIFORM | U::COPY_DST),
+            sblocks: mk("sblocks", super::hash::scan_blocks(caps.self_buckets) as u64 * 4, storage),
             attachments: mk(
                 "attachments",
                 caps.attachments.max(1) as u64 * std::mem::size_of::<attach::Attachment>() as u64,

@@ -3,6 +3,7 @@
 use super::Buffers;
 
 pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("chebyshev.wgsl"));
+pub const REDUCE_PARTIAL_ENTRY: &str = "reduce_partial";
 pub const REDUCE_ENTRY: &str = "reduce_omega";
 pub const EXTRAPOLATE_ENTRY: &str = "extrapolate";
 pub const GATE_ENTRY: &str = "gate";
@@ -13,8 +14,21 @@ pub fn gate_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
     vec![(1, &b.state)]
 }
 
+/// Workgroups of `reduce_partial` for `n` particles: enough that each thread sums a few
+/// (16 at most below a million), at most `REDUCE` (the slots of `partials`).
+pub fn reduce_groups(n: usize) -> u32 {
+    n.div_ceil(REDUCE * 16).clamp(1, REDUCE) as u32
+}
+
+/// `REDUCE` in `chebyshev.wgsl`: threads a workgroup, and partial sums.
+pub const REDUCE: usize = 256;
+
+pub fn reduce_partial_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
+    vec![(0, &b.params), (1, &b.state), (2, &b.norms), (6, &b.partials)]
+}
+
 pub fn reduce_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(0, &b.params), (1, &b.state), (2, &b.norms)]
+    vec![(1, &b.state), (0, &b.params), (6, &b.partials)]
 }
 
 pub fn extrapolate_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
@@ -29,7 +43,12 @@ mod tests {
     #[test]
     fn chebyshev_wgsl_validates() {
         let m = validate_wgsl("chebyshev", SOURCE).unwrap();
-        for e in [REDUCE_ENTRY, EXTRAPOLATE_ENTRY] {
+        assert!(SOURCE.contains(&format!("const REDUCE: u32 = {REDUCE}u;")));
+        assert_eq!(
+            (reduce_groups(0), reduce_groups(4096), reduce_groups(4097), reduce_groups(1 << 30)),
+            (1, 1, 2, 256)
+        );
+        for e in [REDUCE_PARTIAL_ENTRY, REDUCE_ENTRY, EXTRAPOLATE_ENTRY] {
             assert!(m.entry_points.iter().any(|p| p.name == e), "{e}");
         }
     }

@@ -1,29 +1,24 @@
 // Chebyshev acceleration on the GPU (port of `solver/stages/chebyshev.rs`, ρ measured on the CPU).
-// `reduce_omega` (one workgroup) sums the sweep's squared updates, applies the growth check and
-// the ω recurrence, and records the relative residual; `extrapolate` then applies
-// x ← ω(x − prev) + prev and shifts the history (prev ← cur, cur ← x).
+// The sweep's squared updates are summed in two passes: `reduce_partial` (up to REDUCE
+// workgroups, grid-stride) leaves one partial sum per workgroup, and `reduce_omega` (one
+// workgroup) sums those, applies the growth check and the ω recurrence, and records the
+// relative residual; `extrapolate` then applies x ← ω(x − prev) + prev and shifts the history
+// (prev ← cur, cur ← x). One workgroup reading every particle was latency-bound: at a million
+// particles it cost milliseconds an iteration.
 
 @group(0) @binding(2) var<storage, read> norms: array<vec2<f32>>;
 @group(0) @binding(3) var<storage, read_write> x: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read_write> prev: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read_write> cur: array<vec4<f32>>;
+// One partial (update², residual²) sum per `reduce_partial` workgroup; zero past the last.
+@group(0) @binding(6) var<storage, read_write> partials: array<vec2<f32>, 256>;
 
 const REDUCE: u32 = 256u;
 var<workgroup> sum_u: array<f32, 256>;
 var<workgroup> sum_r: array<f32, 256>;
 
-@compute @workgroup_size(256)
-fn reduce_omega(@builtin(local_invocation_index) li: u32) {
-    if (state.done != 0u) {
-        return;
-    }
-    var a = 0.0;
-    var b = 0.0;
-    for (var i = li; i < params.n; i += REDUCE) {
-        let q = norms[i];
-        a += q.x;
-        b += q.y;
-    }
+// The workgroup's sums of (a, b) left in sum_u[0], sum_r[0] (a fixed tree: deterministic).
+fn workgroup_sum(li: u32, a: f32, b: f32) {
     sum_u[li] = a;
     sum_r[li] = b;
     workgroupBarrier();
@@ -34,6 +29,41 @@ fn reduce_omega(@builtin(local_invocation_index) li: u32) {
         }
         workgroupBarrier();
     }
+}
+
+@compute @workgroup_size(256)
+fn reduce_partial(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    if (state.done != 0u) {
+        return;
+    }
+    var a = 0.0;
+    var b = 0.0;
+    for (var i = wg.x * REDUCE + li; i < params.n; i += groups.x * REDUCE) {
+        let q = norms[i];
+        a += q.x;
+        b += q.y;
+    }
+    workgroup_sum(li, a, b);
+    if (li == 0u) {
+        partials[wg.x] = vec2<f32>(sum_u[0], sum_r[0]);
+    }
+    // Slots past the last workgroup read zero (a smaller upload may follow a larger one).
+    if (wg.x == 0u && groups.x + li < REDUCE) {
+        partials[groups.x + li] = vec2<f32>(0.0);
+    }
+}
+
+@compute @workgroup_size(256)
+fn reduce_omega(@builtin(local_invocation_index) li: u32) {
+    if (state.done != 0u) {
+        return;
+    }
+    let q = partials[li];
+    workgroup_sum(li, q.x, q.y);
     if (li != 0u) {
         return;
     }

@@ -14,6 +14,7 @@ pub(super) struct Pipelines {
     pub(super) project: wgpu::ComputePipeline,
     pub(super) project_stencils: wgpu::ComputePipeline,
     pub(super) gauss_seidel: wgpu::ComputePipeline,
+    pub(super) reduce_partial: wgpu::ComputePipeline,
     pub(super) reduce: wgpu::ComputePipeline,
     pub(super) extrapolate: wgpu::ComputePipeline,
     pub(super) finish: wgpu::ComputePipeline,
@@ -21,7 +22,9 @@ pub(super) struct Pipelines {
     pub(super) mesh_lerp: wgpu::ComputePipeline,
     pub(super) mesh_count: wgpu::ComputePipeline,
     pub(super) mesh_scatter: wgpu::ComputePipeline,
-    pub(super) hash_scan: wgpu::ComputePipeline,
+    pub(super) scan_blocks: wgpu::ComputePipeline,
+    pub(super) scan_sums: wgpu::ComputePipeline,
+    pub(super) scan_apply: wgpu::ComputePipeline,
     pub(super) hash_sort: wgpu::ComputePipeline,
     pub(super) resolve_mesh: wgpu::ComputePipeline,
     pub(super) self_count: wgpu::ComputePipeline,
@@ -39,6 +42,7 @@ pub(super) struct BindGroups {
     pub(super) project: wgpu::BindGroup,
     pub(super) project_stencils: wgpu::BindGroup,
     pub(super) gauss_seidel: Vec<wgpu::BindGroup>,
+    pub(super) reduce_partial: wgpu::BindGroup,
     pub(super) reduce: wgpu::BindGroup,
     pub(super) extrapolate: wgpu::BindGroup,
     pub(super) finish: wgpu::BindGroup,
@@ -46,12 +50,12 @@ pub(super) struct BindGroups {
     pub(super) mesh_lerp: wgpu::BindGroup,
     pub(super) mesh_count: wgpu::BindGroup,
     pub(super) mesh_scatter: wgpu::BindGroup,
-    pub(super) mesh_scan: wgpu::BindGroup,
+    pub(super) mesh_scan: [wgpu::BindGroup; 3],
     pub(super) mesh_sort: wgpu::BindGroup,
     pub(super) resolve_mesh: wgpu::BindGroup,
     pub(super) self_count: wgpu::BindGroup,
     pub(super) self_scatter: wgpu::BindGroup,
-    pub(super) self_scan: wgpu::BindGroup,
+    pub(super) self_scan: [wgpu::BindGroup; 3],
     pub(super) self_sort: wgpu::BindGroup,
     pub(super) self_gather: wgpu::BindGroup,
     pub(super) self_apply: wgpu::BindGroup,
@@ -69,6 +73,7 @@ impl Pipelines {
             project: compile(device, "project_triangles", project_triangles::SOURCE, project_triangles::ENTRY),
             project_stencils: compile(device, "project_stencils", project_stencils::SOURCE, project_stencils::ENTRY),
             gauss_seidel: compile(device, "gauss_seidel", gauss_seidel::SOURCE, gauss_seidel::ENTRY),
+            reduce_partial: compile(device, "reduce_partial", chebyshev::SOURCE, chebyshev::REDUCE_PARTIAL_ENTRY),
             reduce: compile(device, "reduce_omega", chebyshev::SOURCE, chebyshev::REDUCE_ENTRY),
             extrapolate: compile(device, "extrapolate", chebyshev::SOURCE, chebyshev::EXTRAPOLATE_ENTRY),
             finish: compile(device, "finish", finish::SOURCE, finish::ENTRY),
@@ -79,7 +84,9 @@ impl Pipelines {
             close_seams: compile(device, "close_seams", close_seams::SOURCE, close_seams::ENTRY),
             mesh_count: compile(device, "mesh_count", mesh_hash::SOURCE, mesh_hash::COUNT_ENTRY),
             mesh_scatter: compile(device, "mesh_scatter", mesh_hash::SOURCE, mesh_hash::SCATTER_ENTRY),
-            hash_scan: compile(device, "hash_scan", hash::SOURCE, hash::SCAN_ENTRY),
+            scan_blocks: compile(device, "scan_blocks", hash::SOURCE, hash::SCAN_BLOCKS_ENTRY),
+            scan_sums: compile(device, "scan_sums", hash::SOURCE, hash::SCAN_SUMS_ENTRY),
+            scan_apply: compile(device, "scan_apply", hash::SOURCE, hash::SCAN_APPLY_ENTRY),
             hash_sort: compile(device, "hash_sort", hash::SOURCE, hash::SORT_ENTRY),
             resolve_mesh: compile(device, "resolve_mesh", resolve_mesh::SOURCE, resolve_mesh::ENTRY),
             self_count: compile(device, "self_count", self_collide::SOURCE, self_collide::COUNT_ENTRY),
@@ -116,12 +123,17 @@ impl BindGroups {
                 })
             })
             .collect();
+        let mesh_table =
+            hash::Table { info: &b.mesh_table_info, counts: &b.mcounts, table: &b.mtable, block_sums: &b.mblocks };
+        let self_table =
+            hash::Table { info: &b.self_table_info, counts: &b.scounts, table: &b.stable, block_sums: &b.sblocks };
         BindGroups {
             predict: bind(d, &pl.predict, "predict", &predict::entries(b)),
             detect: bind(d, &pl.detect, "contacts", &contacts::entries(b)),
             project: bind(d, &pl.project, "project_triangles", &project_triangles::entries(b)),
             project_stencils: bind(d, &pl.project_stencils, "project_stencils", &project_stencils::entries(b)),
             gauss_seidel,
+            reduce_partial: bind(d, &pl.reduce_partial, "reduce_partial", &chebyshev::reduce_partial_entries(b)),
             reduce: bind(d, &pl.reduce, "reduce_omega", &chebyshev::reduce_entries(b)),
             extrapolate: bind(d, &pl.extrapolate, "extrapolate", &chebyshev::extrapolate_entries(b)),
             finish: bind(d, &pl.finish, "finish", &finish::entries(b)),
@@ -129,13 +141,13 @@ impl BindGroups {
             mesh_lerp: bind(d, &pl.mesh_lerp, "mesh_lerp", &mesh_hash::lerp_entries(b)),
             mesh_count: bind(d, &pl.mesh_count, "mesh_count", &mesh_hash::count_entries(b)),
             mesh_scatter: bind(d, &pl.mesh_scatter, "mesh_scatter", &mesh_hash::scatter_entries(b)),
-            mesh_scan: bind(d, &pl.hash_scan, "mesh_scan", &hash::entries(&b.mesh_table_info, &b.mcounts, &b.mtable)),
-            mesh_sort: bind(d, &pl.hash_sort, "mesh_sort", &hash::entries(&b.mesh_table_info, &b.mcounts, &b.mtable)),
+            mesh_scan: scan_groups(d, pl, "mesh_scan", &mesh_table),
+            mesh_sort: bind(d, &pl.hash_sort, "mesh_sort", &mesh_table.sort_entries()),
             resolve_mesh: bind(d, &pl.resolve_mesh, "resolve_mesh", &resolve_mesh::entries(b)),
             self_count: bind(d, &pl.self_count, "self_count", &self_collide::count_entries(b)),
             self_scatter: bind(d, &pl.self_scatter, "self_scatter", &self_collide::scatter_entries(b)),
-            self_scan: bind(d, &pl.hash_scan, "self_scan", &hash::entries(&b.self_table_info, &b.scounts, &b.stable)),
-            self_sort: bind(d, &pl.hash_sort, "self_sort", &hash::entries(&b.self_table_info, &b.scounts, &b.stable)),
+            self_scan: scan_groups(d, pl, "self_scan", &self_table),
+            self_sort: bind(d, &pl.hash_sort, "self_sort", &self_table.sort_entries()),
             self_gather: bind(d, &pl.self_gather, "self_gather", &self_collide::gather_entries(b)),
             self_apply: bind(d, &pl.self_apply, "self_apply", &self_collide::apply_entries(b)),
             attach: bind(d, &pl.attach, "attach", &attach::entries(b)),
@@ -143,6 +155,15 @@ impl BindGroups {
             close_seams: bind(d, &pl.close_seams, "close_seams", &close_seams::entries(b)),
         }
     }
+}
+
+/// The three scan passes' bind groups for one table: blocks, sums, apply.
+pub(super) fn scan_groups(d: &wgpu::Device, pl: &Pipelines, label: &str, t: &hash::Table) -> [wgpu::BindGroup; 3] {
+    [
+        bind(d, &pl.scan_blocks, label, &t.scan_blocks_entries()),
+        bind(d, &pl.scan_sums, label, &t.scan_sums_entries()),
+        bind(d, &pl.scan_apply, label, &t.scan_apply_entries()),
+    ]
 }
 
 pub(super) fn compile(device: &wgpu::Device, label: &str, src: &str, entry: &str) -> wgpu::ComputePipeline {

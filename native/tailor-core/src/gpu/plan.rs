@@ -6,10 +6,11 @@
 //! counted). Per substep, the stages of the CPU's substep in its order:
 //!
 //! 1. `close_seams` (while pairs were on their closing schedule at upload), `predict`; when the colliders' hash is rebuilt (every substep while one moves, else once
-//!    after an upload) `lerp`, `count`, `scan`, `scatter`, `sort`; `attach` (riding pins);
+//!    after an upload) `lerp`, `count`, `scan` (three passes), `scatter`, `sort`; `attach` (riding pins);
 //! 2. per iteration: `gate` (early stop on, from the second iteration), `detect` (colliders),
 //!    `project` (triangles), `project_stencils` (curved), `gauss_seidel` (one per colour),
-//!    `reduce_omega`, `extrapolate` (Chebyshev), the six self-collision passes;
+//!    `reduce_partial` and `reduce_omega`, `extrapolate` (Chebyshev), the self-collision
+//!    passes (count, scan in three, scatter, sort, gather, apply);
 //! 3. `resolve_mesh` (mesh colliders), `finish`, `ramp`.
 
 use super::{
@@ -80,7 +81,10 @@ pub(super) fn frame<'a>(
             let wg = mesh_hash::WORKGROUP;
             add("mesh_lerp", &pl.mesh_lerp, &g.mesh_lerp, groups(u.n_mesh_verts, wg));
             add("mesh_count", &pl.mesh_count, &g.mesh_count, groups(u.n_mesh_tris, wg));
-            add("mesh_scan", &pl.hash_scan, &g.mesh_scan, 1);
+            let blocks = hash::scan_blocks(u.mesh_buckets) as u32;
+            add("mesh_scan", &pl.scan_blocks, &g.mesh_scan[0], blocks);
+            add("mesh_scan", &pl.scan_sums, &g.mesh_scan[1], 1);
+            add("mesh_scan", &pl.scan_apply, &g.mesh_scan[2], blocks);
             add("mesh_scatter", &pl.mesh_scatter, &g.mesh_scatter, groups(u.n_mesh_tris, wg));
             add("mesh_sort", &pl.hash_sort, &g.mesh_sort, groups(u.mesh_buckets, hash::WORKGROUP));
         }
@@ -114,6 +118,7 @@ pub(super) fn frame<'a>(
                     groups(range.count as usize, gauss_seidel::WORKGROUP),
                 );
             }
+            add("reduce", &pl.reduce_partial, &g.reduce_partial, chebyshev::reduce_groups(n));
             add("reduce", &pl.reduce, &g.reduce, 1);
             if u.method == Method::Chebyshev {
                 add("extrapolate", &pl.extrapolate, &g.extrapolate, groups(n, chebyshev::WORKGROUP));
@@ -121,7 +126,10 @@ pub(super) fn frame<'a>(
             if u.self_enabled {
                 let wg = self_collide::WORKGROUP;
                 add("self_count", &pl.self_count, &g.self_count, groups(n, wg));
-                add("self_scan", &pl.hash_scan, &g.self_scan, 1);
+                let blocks = hash::scan_blocks(u.self_buckets) as u32;
+                add("self_scan", &pl.scan_blocks, &g.self_scan[0], blocks);
+                add("self_scan", &pl.scan_sums, &g.self_scan[1], 1);
+                add("self_scan", &pl.scan_apply, &g.self_scan[2], blocks);
                 add("self_scatter", &pl.self_scatter, &g.self_scatter, groups(n, wg));
                 add("self_sort", &pl.hash_sort, &g.self_sort, groups(u.self_buckets, hash::WORKGROUP));
                 add("self_gather", &pl.self_gather, &g.self_gather, groups(n, wg));

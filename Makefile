@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: bench-gpu fuzz drape-suite demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
+.PHONY: bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -96,6 +96,10 @@ bench-peers: develop
 ## the walk); a table into out/bench-gpu/bench-gpu.md. For a machine with a GPU (docs/gpu.md).
 bench-gpu: develop
 	$(PY) bench/gpu/run.py --out out/bench-gpu
+
+## The binaries and loaders bench/gpu/on_device.sh needs on a lent GPU machine (docs/gpu.md).
+device-bin: setup
+	bash bench/gpu/prepare_device.sh
 
 bench-error: setup
 	cargo run --release -p tailor-core --example accuracy -- --out out/bench --sizes 1000,10000 --frames 45

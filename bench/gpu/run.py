@@ -66,7 +66,7 @@ def solver_table(sizes: list[str], budget: float, bench_bin: str | None, timeout
     """The core's benchmark with body and self collision (its Markdown table as printed)."""
     program = [bench_bin] if bench_bin else ["cargo", "run", "--release", "-q", "-p", "tailor-core", "--features",
                                              "gpu", "--example", "gpu_bench", "--"]
-    cmd = [*program, "--collisions", "--budget", str(budget), *sizes]
+    cmd = [*program, "--collisions", "--kernels", "--budget", str(budget), *sizes]
     try:
         r = sh(cmd, timeout=timeout)
     except subprocess.TimeoutExpired as e:

@@ -13,7 +13,8 @@ use crate::solver::{ActiveBackend, ColliderId, Simulation, StepStats, Vec3Soa};
 /// Which backend steps the simulation.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum Backend {
-    /// The GPU for large scenes on a hardware adapter, else the CPU (see [`AUTO_GPU_MIN_PARTICLES`]).
+    /// The GPU where it was measured faster: a discrete adapter and a scene of at least
+    /// [`AUTO_GPU_MIN_PARTICLES`]; else the CPU (see [`auto_uses_gpu`]).
     #[default]
     Auto,
     Cpu,
@@ -21,11 +22,20 @@ pub enum Backend {
     Gpu,
 }
 
-/// Below this many particles `Auto` stays on the CPU. Measured on lavapipe (software Vulkan on
-/// two shared cores) the GPU path never won (see `docs/gpu.md`), so `Auto` also never picks
-/// a software adapter; the threshold for hardware adapters is a placeholder until measured on
-/// one.
-pub const AUTO_GPU_MIN_PARTICLES: usize = 20_000;
+/// Below this many particles `Auto` stays on the CPU: the smallest size measured on a real GPU
+/// (docs/gpu.md: an NVIDIA H100 against the 16 cores of its host, a cloth with body and self
+/// collision, 10,000 particles: 39 ms a frame against 214 ms). Smaller scenes were not
+/// measured there, and a frame's fixed cost on the GPU (its 1,600-1,900 dispatches: 6-9 ms on
+/// the H100) is what a small cloth costs the CPU in all.
+pub const AUTO_GPU_MIN_PARTICLES: usize = 10_000;
+
+/// `Auto`'s rule, from what was measured: the GPU on a discrete adapter from
+/// [`AUTO_GPU_MIN_PARTICLES`] up. Integrated, virtual and software adapters stay on the CPU:
+/// on lavapipe (software Vulkan) the GPU path was 4-20 times slower at every size, and no
+/// integrated GPU has been measured.
+pub fn auto_uses_gpu(discrete: bool, particles: usize) -> bool {
+    discrete && particles >= AUTO_GPU_MIN_PARTICLES
+}
 
 /// How a [`Solver`] is built.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -119,7 +129,7 @@ impl Solver {
             return;
         }
         match GpuSolver::new(GpuOptions { force_no_adapter: options.force_no_adapter }) {
-            Ok(g) if options.backend == Backend::Auto && g.is_software() => {}
+            Ok(g) if options.backend == Backend::Auto && !auto_uses_gpu(g.is_discrete(), self.sim.num_particles()) => {}
             Ok(g) => self.gpu = Some(g),
             Err(why) if options.backend == Backend::Gpu => self.warning = Some(format!("{why}; using the CPU")),
             Err(_) => {}
@@ -292,5 +302,19 @@ impl Solver {
                 self.gpu = None;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_picks_the_gpu_only_where_it_was_measured_faster() {
+        assert!(auto_uses_gpu(true, AUTO_GPU_MIN_PARTICLES));
+        assert!(auto_uses_gpu(true, 1_000_000));
+        assert!(!auto_uses_gpu(true, AUTO_GPU_MIN_PARTICLES - 1));
+        // Integrated, virtual and software adapters: never (not measured, or slower).
+        assert!(!auto_uses_gpu(false, 1_000_000));
     }
 }

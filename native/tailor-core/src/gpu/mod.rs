@@ -278,6 +278,11 @@ impl GpuSolver {
         &self.ctx.info
     }
 
+    /// Whether the adapter is a discrete GPU (the only kind `Auto` picks, `engine::auto_uses_gpu`).
+    pub fn is_discrete(&self) -> bool {
+        self.ctx.info.device_type == wgpu::DeviceType::DiscreteGpu
+    }
+
     /// Whether the adapter is a software rasteriser (lavapipe, SwiftShader, WARP).
     pub fn is_software(&self) -> bool {
         self.ctx.info.device_type == wgpu::DeviceType::Cpu

@@ -579,7 +579,7 @@ fn bend_params(
 /// Rolls a flat placed piece onto a cylinder round an axis, keeping lengths along it (paper
 /// Fig. 4, made isometric: `tailor_core::bend`); returns the new (n, 3) positions.
 /// `symmetry` = ((x, y), (dx, dy)), a rest-frame line whose sides roll in opposite senses;
-/// `radius` sets the cylinder instead of `angle_deg`.
+/// `radius` sets the cylinder instead of `angle_deg`, whose sign then only says which way it rolls.
 #[pyfunction]
 #[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None, mode="roll"))]
 #[allow(clippy::too_many_arguments)]

@@ -24,8 +24,8 @@ pub struct BendParams {
     pub axis_point: [f64; 3],
     /// Direction of the axis (need not be unit length).
     pub axis_direction: [f64; 3],
-    /// Turn of the farthest point, degrees (positive: rolled towards the axis). Ignored when
-    /// `radius` is given.
+    /// Turn of the farthest point, degrees (positive: rolled towards the axis). When `radius`
+    /// is given only its sign counts: which way the piece rolls.
     pub angle_deg: f64,
     /// Roll both sides of this rest-frame line (parallel to the axis), in opposite senses.
     pub symmetry: Option<SymmetryLine>,

@@ -92,7 +92,8 @@ pub(super) fn roll(positions: &mut [[f32; 3]], rest: &[[f32; 2]], params: &BendP
     };
     let s: Vec<f64> = u.iter().map(|x| (x.abs() - params.threshold).max(0.0)).collect();
     let s_max = s.iter().copied().fold(0.0, f64::max);
-    let towards = params.radius.is_some() || params.angle_deg > 0.0;
+    // The angle's sign says which way, also when a radius sets how far.
+    let towards = params.angle_deg >= 0.0;
     let r = match params.radius {
         Some(r) => r,
         None if s_max > 0.0 => s_max / params.angle_deg.to_radians().abs(),
@@ -318,6 +319,20 @@ mod tests {
         // 0.1 below that edge; every point lies on it.
         for (a, b) in p.iter().zip(&pos) {
             let (dx, dz) = (a[0] as f64 + 0.2, a[2] as f64 + 0.1);
+            assert!(((dx * dx + dz * dz).sqrt() - 0.1).abs() < 1e-5, "{b:?} -> {a:?}");
+        }
+    }
+
+    /// With a radius, the angle's sign still says which way the piece rolls: a negative
+    /// angle rolls it away from the axis, onto the cylinder on the other side.
+    #[test]
+    fn a_radius_rolls_away_for_a_negative_angle() {
+        let (pos, rest, _) = sheet(41, 3);
+        let mut p = pos.clone();
+        let q = BendParams { radius: Some(0.1), ..params(-10.0, false, 0.0) };
+        bend_piece(&mut p, &rest, &q).unwrap();
+        for (a, b) in p.iter().zip(&pos) {
+            let (dx, dz) = (a[0] as f64 + 0.2, a[2] as f64 - 0.1);
             assert!(((dx * dx + dz * dz).sqrt() - 0.1).abs() < 1e-5, "{b:?} -> {a:?}");
         }
     }

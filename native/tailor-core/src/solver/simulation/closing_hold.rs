@@ -69,6 +69,8 @@ impl Simulation {
             // A collider that is not a valid closed mesh answers no distance query: it holds
             // nothing (contacts still work on it).
             let Ok(body) = ClosedMesh::new(&m.cur, &m.tris) else { continue };
+            // Its distance hash built before the parallel loop, in parallel (`prepare_queries`).
+            body.prepare_queries();
             let near: Vec<u32> = (0..n as u32)
                 .into_par_iter()
                 .filter(|&i| !taken[i as usize] && body.is_within(x[i as usize], within))

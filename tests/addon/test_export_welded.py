@@ -1,5 +1,6 @@
 """Export Welded Garment through the operator's exec path: one mesh object merged along the
-seams (equal and unequal), at the evaluated positions, UVs kept, written as OBJ or glTF; a
+seams (equal and unequal), at the evaluated positions, UVs and materials kept, written as OBJ or
+glTF; a
 piece whose modifiers change its vertex count is refused with a report and nothing added."""
 
 import numpy as np
@@ -104,6 +105,44 @@ def test_an_unequal_seam_welds_watertight_and_writes_obj_and_glb(scene, addon, t
     glb = tmp_path / "skirt.glb"
     export(export_format="GLB", filepath=str(glb))
     assert glb.read_bytes()[:4] == b"glTF"
+
+
+def face_materials(obj) -> np.ndarray:
+    index = np.empty(len(obj.data.polygons), np.int32)
+    obj.data.polygons.foreach_get("material_index", index)
+    return np.array([obj.data.materials[i].name for i in index]) if len(obj.data.materials) else np.array([])
+
+
+def test_the_pieces_materials_are_kept_face_by_face(scene, addon, tmp_path):
+    front, back = two_panels_sewn(addon)
+    denim, lining, trim = (bpy.data.materials.new(n) for n in ("denim", "lining", "trim"))
+    front.data.materials.append(denim)
+    back.data.materials.append(lining)
+    back.data.materials.append(trim)
+    # The back's first ten faces in its second slot.
+    index = np.zeros(len(back.data.polygons), np.int32)
+    index[:10] = 1
+    back.data.polygons.foreach_set("material_index", index)
+    order = addon.scene_data.piece_objects(scene, None)  # the garment's piece order
+    obj = export()
+    first_met = list(dict.fromkeys(m.name for o in order for m in o.data.materials))
+    assert [m.name for m in obj.data.materials] == first_met and set(first_met) == {"denim", "lining", "trim"}
+    got = face_materials(obj)
+    want = np.concatenate([face_materials(o) for o in order])
+    # Equal seam: the welded faces are the pieces' faces in garment order.
+    assert len(got) == len(want) and (got == want).all()
+
+
+def test_an_unequal_seam_keeps_each_split_face_in_its_pieces_material(scene, addon, tmp_path):
+    front, back = two_panels_sewn(addon, back_edge=0.03)
+    front.data.materials.append(bpy.data.materials.new("denim"))
+    back.data.materials.append(bpy.data.materials.new("lining"))
+    path = tmp_path / "skirt.obj"
+    obj = export(export_format="OBJ", filepath=str(path))
+    got = face_materials(obj)
+    assert set(got) == {"denim", "lining"}
+    assert (got == "denim").sum() >= len(front.data.polygons) and (got == "lining").sum() >= len(back.data.polygons)
+    assert "usemtl denim" in path.read_text() and (tmp_path / "skirt.mtl").exists()
 
 
 def test_a_modifier_that_changes_the_vertex_count_is_refused(scene, addon):

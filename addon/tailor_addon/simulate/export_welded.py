@@ -2,7 +2,8 @@
 
 Positions are the evaluated pieces (so a baked frame, played by the Mesh Cache modifier, is
 welded as it looks), or the joined "(baked)" object of a per-garment cache; the weld is
-`tailor.weld` through `core.welded`. UV maps present on every piece carry over per corner.
+`tailor.weld` through `core.welded`. UV maps present on every piece carry over per corner, and
+the pieces' materials face by face (one slot per distinct material, in the order first met).
 The object is optionally written with Blender's own OBJ or glTF exporter.
 """
 
@@ -71,7 +72,40 @@ def corner_uvs(objects, garment) -> dict[str, np.ndarray]:
     return {n: np.concatenate(v) for n, v in out.items()}
 
 
-def new_mesh_object(scene, name: str, w, uvs: dict[str, np.ndarray]):
+def corner_materials(objects) -> tuple[list, np.ndarray]:
+    """The pieces' materials, each once in the order first met (None for a face with none), and
+    per corner in garment order the index of its face's material in that list ((3 × triangles,
+    1), as float for `welded_corner_values`). The faces are the pattern's triangles
+    (`corner_uvs` checks)."""
+    materials: list = []
+    parts = []
+    for o in objects:
+        me = o.data
+        slots = [s.material for s in o.material_slots]
+        index = np.zeros(len(me.polygons), np.int32)
+        me.polygons.foreach_get("material_index", index)
+        local = []
+        for m in slots or [None]:
+            if m not in materials:
+                materials.append(m)
+            local.append(materials.index(m))
+        per_face = np.asarray(local, np.float32)[np.clip(index, 0, len(local) - 1)]
+        parts.append(np.repeat(per_face, 3))
+    return materials, np.concatenate(parts).reshape(-1, 1) if parts else np.zeros((0, 1), np.float32)
+
+
+def assign_materials(me, materials: list, corner_index: np.ndarray) -> None:
+    """Slots for `materials` on `me` and each face's index from its corners' (a welded face's
+    corners all come from one piece's face)."""
+    if all(m is None for m in materials):
+        return
+    for m in materials:
+        me.materials.append(m)
+    face = np.rint(np.asarray(corner_index, np.float32).reshape(-1, 3).mean(axis=1)).astype(np.int32)
+    me.polygons.foreach_set("material_index", face)
+
+
+def new_mesh_object(scene, name: str, w, uvs: dict[str, np.ndarray], materials=None, corner_index=None):
     me = bpy.data.meshes.new(name)
     co, tris = np.asarray(w.positions, np.float32), np.asarray(w.triangles, np.int32)
     me.vertices.add(len(co))
@@ -86,6 +120,8 @@ def new_mesh_object(scene, name: str, w, uvs: dict[str, np.ndarray]):
     for n, values in uvs.items():
         layer = me.uv_layers.new(name=n)
         layer.data.foreach_set("uv", np.ascontiguousarray(values, np.float32).reshape(-1))
+    if materials is not None:
+        assign_materials(me, materials, corner_index)
     me.validate()
     me.update()
     obj = bpy.data.objects.new(name, me)
@@ -103,7 +139,10 @@ def write_file(context, obj, fmt: str, path: str) -> None:
     context.view_layer.objects.active = obj
     try:
         if fmt == "OBJ":
-            bpy.ops.wm.obj_export(filepath=path, export_selected_objects=True, export_uv=True, export_materials=False)
+            bpy.ops.wm.obj_export(
+                filepath=path, export_selected_objects=True, export_uv=True,
+                export_materials=len(obj.data.materials) > 0,
+            )
         else:
             if not hasattr(bpy.ops.export_scene, "gltf"):
                 raise AddonError("Blender's glTF exporter is not enabled", "Enable the glTF 2.0 add-on, or export OBJ")
@@ -120,7 +159,7 @@ class TAILOR_OT_export_welded(bpy.types.Operator):
     bl_label = "Export Welded Garment"
     bl_description = (
         "Add the garment as one mesh at the current frame (pieces merged along their seams, unequal seams "
-        "split so the seam is watertight, UVs kept), and optionally write it as OBJ or glTF"
+        "split so the seam is watertight, UVs and materials kept), and optionally write it as OBJ or glTF"
     )
     bl_options = {"REGISTER", "UNDO"}
 
@@ -157,7 +196,9 @@ class TAILOR_OT_export_welded(bpy.types.Operator):
         garment_name = name or (objects[0].tailor_piece.garment or "garment")
         w = welded.weld(g, garment_positions(scene, objects, garment_name))
         uvs = {n: welded.welded_corner_values(w, v) for n, v in corner_uvs(objects, g).items()}
-        obj = new_mesh_object(scene, f"{garment_name} (welded)", w, uvs)
+        materials, corner_index = corner_materials(objects)
+        corner_index = welded.welded_corner_values(w, corner_index)
+        obj = new_mesh_object(scene, f"{garment_name} (welded)", w, uvs, materials, corner_index)
         if path:
             try:
                 write_file(context, obj, self.export_format, path)

@@ -6,8 +6,9 @@
 #             gpu_solver and core_lib (the GPU test suite: tests/gpu_solver.rs and the lib's
 #             gpu:: tests) and _tailor.abi3.so (the module, built with the gpu feature);
 #   .gl/      the Vulkan and GL loader packages (libvulkan1 ...), unpacked into / first.
-# Writes everything into $OUT (or out/bench-gpu): the GPU's name and driver, the benchmark's
-# tables (bench-gpu.md, solver.md, each sample's report) and the test suite's log.
+# Writes everything into $OUT (or out/bench-gpu): the GPU's name and driver (machine.txt), the
+# benchmark's tables (bench-gpu.md, solver.md with each kernel's profile), its log, the test
+# suite's log and the samples' reports (reports.tgz): six files.
 # Order: the figures first, the tests last, each under its own timeout, so a slow step costs
 # its own output and not the rest.
 set -u
@@ -39,3 +40,6 @@ python3 bench/gpu/run.py --out "$out" --bench-bin .devbin/gpu_bench --timeout "$
     echo "core_lib gpu:: rc $?"
 } >"$out/tests.log" 2>&1
 tail -5 "$out/tests.log"
+# The device tool brings back at most 8 files: the samples' reports travel as one archive.
+(cd "$out" && ls ./*.json >/dev/null 2>&1 && tar czf reports.tgz ./*.json && rm -f ./*.json)
+ls "$out"

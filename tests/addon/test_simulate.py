@@ -163,6 +163,50 @@ def test_per_garment_cache_plays_on_a_joined_object(addon, tmp_path):
     np.testing.assert_allclose(evaluated_local(joined), caches["shirt_mean_specification.pc2"][1], atol=1e-6)
 
 
+def test_a_bake_that_crashes_keeps_its_checkpoints_and_resumes(addon, tmp_path, monkeypatch):
+    """A running bake writes checkpoints (every `CHECKPOINT_S`) beside the caches, so a crash
+    mid-bake keeps the frames written, the previous bake's caches stay whole, and Resume
+    continues from the checkpoint."""
+    sc = shirt_on_character(tmp_path / "scene.blend", frames=FRAMES)
+    assert bpy.ops.tailor.bake() == {"FINISHED"}
+    whole = read_caches(tmp_path)
+    job_mod = addon.simulate.job
+    job_mod.JOBS.clear()
+    monkeypatch.setattr(job_mod, "CHECKPOINT_S", 0.0)  # a checkpoint after every frame
+    step = job_mod.BakeJob.step
+
+    def crash_after_four(job):
+        if len(job.run.frames) == 4:
+            raise RuntimeError("the machine went down")
+        return step(job)
+
+    monkeypatch.setattr(job_mod.BakeJob, "step", crash_after_four)
+    with pytest.raises(RuntimeError, match="went down"):
+        bpy.ops.tailor.bake()
+    import tailor
+
+    points = sorted(cache_dir(tmp_path).glob("*.checkpoint.pc2"))
+    assert len(points) == len(whole)
+    for p in points:
+        c = tailor.read_pc2(str(p))["frames"]
+        np.testing.assert_array_equal(c, whole[p.name.replace(".checkpoint", "")][:4])
+    # The previous bake, which the scene plays, is whole.
+    for name, c in read_caches(tmp_path).items():
+        if ".checkpoint" not in name:
+            np.testing.assert_array_equal(c, whole[name])
+    monkeypatch.setattr(job_mod.BakeJob, "step", step)
+    job_mod.JOBS.clear()  # a new session after the crash: the checkpoint's frames are solved again
+    job, resumed = job_mod.job_for(sc["scene"], resume=True)
+    assert resumed == 4
+    while not job.done:
+        job.step()
+    job_mod.finish(sc["scene"], job, cancelled=False)
+    assert read_caches(tmp_path).keys() == whole.keys()  # the checkpoint is gone
+    for name, c in read_caches(tmp_path).items():
+        np.testing.assert_allclose(c, whole[name], atol=1e-6, rtol=0)
+    assert sc["scene"].frame_current == FRAMES[0]
+
+
 def test_cancel_and_resume_give_the_uninterrupted_frames(addon, tmp_path):
     sc = shirt_on_character(tmp_path / "scene.blend", frames=FRAMES)
     scene = sc["scene"]

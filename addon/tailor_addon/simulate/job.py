@@ -4,8 +4,12 @@
 simulation (`core.simulate.build`) and hands frames to the bpy-free loop
 (`tailor.bake.Bake`). The operator drives it either in one go (`execute`: headless, scripts)
 or one frame per timer tick (`modal`: the UI, Esc cancels). Caches are written atomically
-(`tailor.bake.write_pc2_atomic`) with every frame done so far, so a cancelled bake leaves a
-playable cache and `resume` continues from its last frame.
+(`tailor.bake.write_pc2_atomic`) with every frame done so far when the bake ends, so a
+cancelled bake leaves a playable cache and `resume` continues from its last frame. While it
+runs, every `CHECKPOINT_S` seconds, the frames so far go to checkpoint files beside the caches
+(`*.checkpoint.pc2`): a crash (or a kill on a render farm) loses at most the last seconds'
+frames and Resume continues from the checkpoint, while the previous bake's caches, which the
+scene plays, stay whole until the new bake ends.
 
 Jobs stay in `JOBS` (per scene and garment) after they stop, so a resume in the same session
 continues the very same solver state; otherwise the cached frames are solved again and
@@ -17,6 +21,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import time
 
 import bpy
 import numpy as np
@@ -64,6 +69,11 @@ def _fingerprint(settings: core_sim.SimSettings, garment, colliders, start: int,
     return h.hexdigest()
 
 
+#: Seconds of baking between two checkpoints (`BakeJob.checkpoint`): each rewrites every frame
+#: done, so a long bake's checkpoints cost it a few per cent at most.
+CHECKPOINT_S = 10.0
+
+
 class BakeJob:
     """Everything a bake needs, gathered on the main thread at the start frame."""
 
@@ -97,6 +107,8 @@ class BakeJob:
                              gravity, pins=built.pins)
         # Piece transforms at the start: caches are in each piece's local space.
         self.inverse = [np.linalg.inv(np.array(o.matrix_world, np.float64)) for o in self.objects]
+        # The last checkpoint: when, and how many frames it wrote.
+        self.written = (time.monotonic(), 0)
 
     # ---- frames -------------------------------------------------------------------------------
 
@@ -128,6 +140,9 @@ class BakeJob:
             out.append((part.astype(np.float64) @ inv[:3, :3].T + inv[:3, 3]).astype(np.float32))
         return out
 
+    def checkpoint_paths(self) -> list[str]:
+        return [os.path.splitext(p)[0] + ".checkpoint.pc2" for p in self.cache_paths()]
+
     def report_path(self) -> str:
         return os.path.join(self.folder, f"{bpy.path.clean_name(self.garment_name)}.report.json")
 
@@ -149,11 +164,31 @@ class BakeJob:
         with open(tmp, "w") as fh:
             json.dump(report, fh, indent=1)
         os.replace(tmp, self.report_path())
+        for c in self.checkpoint_paths():  # the caches hold every frame now
+            if os.path.isfile(c):
+                os.remove(c)
         return paths
 
+    def checkpoint(self) -> bool:
+        """Writes every frame done to the checkpoint files, when `CHECKPOINT_S` seconds have
+        passed since the last write and new frames were done; True when it wrote. Call it
+        between frames (never while a solver thread adds one)."""
+        at, count = self.written
+        done = len(self.run.frames)
+        if done == count or time.monotonic() - at < CHECKPOINT_S:
+            return False
+        os.makedirs(self.folder, exist_ok=True)
+        for path, frames in zip(self.checkpoint_paths(), self.local_frames(self.run.positions())):
+            bake.write_pc2_atomic(path, frames, start_frame=self.start, sample_rate=1.0)
+        self.written = (time.monotonic(), done)
+        return True
+
     def read_cached(self) -> np.ndarray | None:
-        """The frames already cached for this job, as world positions, or None."""
-        paths = self.cache_paths()
+        """The frames already cached for this job, as world positions, or None: the checkpoint
+        of a bake that stopped without ending (the latest frames solved), else the caches."""
+        paths = self.checkpoint_paths()
+        if not all(os.path.isfile(p) for p in paths):
+            paths = self.cache_paths()
         if not all(os.path.isfile(p) for p in paths):
             return None
         parts = [tailor.read_pc2(p)["frames"] for p in paths]

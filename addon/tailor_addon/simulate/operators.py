@@ -154,8 +154,10 @@ class TAILOR_OT_bake(bpy.types.Operator):
                 # Headless (`blender -b ... bpy.ops.tailor.bake()`), a render farm's log is the
                 # only progress there is: one line a frame.
                 print(bake_job.progress_line(rec, len(job.run.frames), total), flush=True)
+                job.checkpoint()
         except Exception:
-            context.scene.frame_set(frame)  # the frames done are dropped: nothing was written
+            # The frames since the last checkpoint are dropped; the checkpoint stays (Resume).
+            context.scene.frame_set(frame)
             raise
         self.report({"INFO"}, bake_job.finish(context.scene, job, cancelled=False))
         return {"FINISHED"}

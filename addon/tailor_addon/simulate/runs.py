@@ -72,6 +72,7 @@ class BakeRun(_TimerRun):
         if not solver.busy:
             if job.done:
                 return True
+            job.checkpoint()  # between frames: the solver thread adds none now
             frame = job.run.next_frame
             solver.submit(frame, job.colliders_at(frame))
         done = len(job.run.frames)

@@ -9,14 +9,16 @@
 - `handlers.py`: runs end before a file is replaced; older files' settings carried over;
 - `operators.py`, `ui.py`: the operators and the panel;
 - `export_welded.py`: Export Welded Garment (the pieces merged along their seams into one mesh
-  at the current frame, optionally written as OBJ or glTF).
+  at the current frame, optionally written as OBJ or glTF);
+- `export_animation.py`: Export Garment Animation (the baked garment welded, animated over the
+  bake's range, written as Alembic or USD by Blender's exporters).
 
 The simulation itself is built by the bpy-free `core/simulate.py`.
 """
 
-from . import draw, export_welded, handlers, live, operators, properties, runs, ui
+from . import draw, export_animation, export_welded, handlers, live, operators, properties, runs, ui
 
-classes = properties.classes + operators.classes + export_welded.classes + ui.classes
+classes = properties.classes + operators.classes + export_welded.classes + export_animation.classes + ui.classes
 
 
 #: Object > Tailor menu entries (menu.EXTRA), in workflow order.
@@ -29,6 +31,7 @@ MENU = (
     ("tailor.bake", "Bake Simulation"),
     ("tailor.bake_clear", "Free Bake"),
     ("tailor.export_welded", "Export Welded Garment"),
+    ("tailor.export_animation", "Export Garment Animation"),
 )
 
 

@@ -145,6 +145,10 @@ class TAILOR_PT_simulate_bake(TailorPanel, bpy.types.Panel):
         row.operator("tailor.export_welded", text="Welded Mesh", icon="AUTOMERGE_ON")
         row.operator("tailor.export_welded", text="Welded OBJ…", icon="EXPORT").export_format = "OBJ"
         row.operator("tailor.export_welded", text="glTF…", icon="EXPORT").export_format = "GLB"
+        row = layout.row(align=True)
+        row.enabled = bool(s.baked_frames)
+        row.operator("tailor.export_animation", text="Alembic…", icon="EXPORT").export_format = "ABC"
+        row.operator("tailor.export_animation", text="USD…", icon="EXPORT").export_format = "USD"
         if s.baked_frames:
             layout.label(text=s.bake_report, icon="INFO")
 

@@ -1,0 +1,160 @@
+"""Export Garment Animation: the baked garment welded along its seams, as one animated object,
+written with Blender's own Alembic or USD exporter.
+
+The pieces' caches crack along every seam once shaded (each side of a seam is its own row of
+vertices), so studios are handed the welded garment (issue 24: the welded garment is the
+default for every format). The garment is welded once (`tailor.weld` through `core.welded`, as
+Export Welded Garment does, UVs and materials kept) and each frame of the scene's range, as the
+pieces play it (their Mesh Cache, or the joined garment object's), is carried over
+(`WeldedMesh.apply`) into a PC2 cache beside the bake's, played on the welded object by a Mesh
+Cache modifier: the scene shows what was written. Blender's exporter then writes the object over
+the range (Alembic: `wm.alembic_export`; USD: `wm.usd_export`).
+"""
+
+from __future__ import annotations
+
+import os
+
+import bpy
+import numpy as np
+from bpy.props import EnumProperty, StringProperty
+
+from tailor import bake
+
+from .. import compat, scene_data
+from ..core import AddonError, welded
+from ..reporting import reports_errors
+from . import job as bake_job
+from .export_welded import corner_materials, corner_uvs, garment_positions, new_mesh_object
+
+FORMATS = [
+    ("ABC", "Alembic", "Alembic (.abc), Blender's exporter: Houdini, Maya, Unreal and Blender read it"),
+    ("USD", "USD", "Universal Scene Description (.usdc), Blender's exporter"),
+    ("NONE", "Object Only", "Only add the animated welded object to the scene"),
+]
+EXTENSIONS = {"ABC": ".abc", "USD": ".usdc"}
+
+
+def welded_frames(scene, objects, garment_name: str, w, start: int, end: int) -> np.ndarray:
+    """The welded points of every frame from `start` to `end` ((frames, k, 3) float32), as the
+    pieces play them; the scene's frame is restored."""
+    frame = scene.frame_current
+    try:
+        out = []
+        for f in range(start, end + 1):
+            scene.frame_set(f)
+            out.append(np.asarray(w.apply(garment_positions(scene, objects, garment_name)), np.float32))
+    finally:
+        scene.frame_set(frame)
+    return np.stack(out)
+
+
+def play(obj, path: str, start: int) -> None:
+    """A Mesh Cache modifier on `obj` playing the PC2 at `path` from frame `start`."""
+    mod = obj.modifiers.new(bake_job.MODIFIER, "MESH_CACHE")
+    compat.move_modifier_first(obj, mod)
+    mod.cache_format = "PC2"
+    mod.filepath = bpy.path.relpath(path) if bpy.data.filepath else path
+    mod.play_mode = "SCENE"
+    mod.time_mode = "FRAME"
+    mod.frame_start = float(start)
+
+
+def write_file(context, obj, fmt: str, path: str, start: int, end: int) -> None:
+    """Writes `obj` alone over `start`-`end` with Blender's exporter (selection restored)."""
+    selected = [o for o in context.view_layer.objects if o.select_get()]
+    active = context.view_layer.objects.active
+    for o in selected:
+        o.select_set(False)
+    obj.select_set(True)
+    context.view_layer.objects.active = obj
+    try:
+        if fmt == "ABC":
+            bpy.ops.wm.alembic_export(filepath=path, start=start, end=end, selected=True, uvs=True,
+                                      face_sets=True)
+        else:
+            scene = context.scene
+            keep = scene.frame_start, scene.frame_end
+            scene.frame_start, scene.frame_end = start, end  # USD exports the scene's range
+            try:
+                bpy.ops.wm.usd_export(filepath=path, selected_objects_only=True, export_animation=True,
+                                      export_uvmaps=True, export_materials=True)
+            finally:
+                scene.frame_start, scene.frame_end = keep
+    finally:
+        obj.select_set(False)
+        for o in selected:
+            o.select_set(True)
+        context.view_layer.objects.active = active
+
+
+class TAILOR_OT_export_animation(bpy.types.Operator):
+    bl_idname = "tailor.export_animation"
+    bl_label = "Export Garment Animation"
+    bl_description = (
+        "The baked garment over the bake's frame range as one animated mesh, welded along its seams (UVs and "
+        "materials kept), written as Alembic or USD with Blender's exporter"
+    )
+    # It adds the animated welded object to the scene (a cache beside the bake's plays it):
+    # an undo step, as Export Welded Garment.
+    bl_options = {"REGISTER", "UNDO"}
+
+    garment: StringProperty(name="Garment", description="Only this garment's pieces (empty: the Simulate panel's)")
+    export_format: EnumProperty(name="Format", items=FORMATS, default="ABC")
+    filepath: StringProperty(name="File", subtype="FILE_PATH", description="Where to write the file")
+    filter_glob: StringProperty(default="*.abc;*.usdc;*.usd", options={"HIDDEN"})
+
+    def invoke(self, context, event):
+        if self.export_format == "NONE":
+            return self.execute(context)
+        if not self.filepath:
+            stem = os.path.splitext(bpy.data.filepath)[0] if bpy.data.filepath else "garment"
+            self.filepath = f"{stem}_garment{EXTENSIONS[self.export_format]}"
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    @reports_errors("Exporting the garment animation")
+    def execute(self, context):
+        scene = context.scene
+        name = self.garment or scene.tailor_simulate.garment or None
+        objects = scene_data.piece_objects(scene, name)
+        if not objects:
+            raise AddonError("the scene has no garment pieces", "Import a pattern first")
+        if not scene.tailor_simulate.baked_frames:
+            raise AddonError("the garment is not baked", "Bake it first (Simulate panel > Bake)")
+        path = ""
+        if self.export_format != "NONE":
+            if not self.filepath:
+                raise AddonError("no file to write", "Choose a file, or set Format to Object Only")
+            path = bpy.path.ensure_ext(bpy.path.abspath(self.filepath), EXTENSIONS[self.export_format])
+            if not os.path.isdir(os.path.dirname(path) or "."):
+                raise AddonError(f"the folder of {path} does not exist", "Choose an existing folder")
+        start, end = bake_job.frame_range(scene)
+        folder = bake_job.cache_folder(scene)
+        # Everything is computed before the scene changes.
+        g = scene_data.build_garment(scene, name)
+        garment_name = name or (objects[0].tailor_piece.garment or "garment")
+        w = welded.weld(g, garment_positions(scene, objects, garment_name))
+        uvs = {n: welded.welded_corner_values(w, v) for n, v in corner_uvs(objects, g).items()}
+        materials, corner_index = corner_materials(objects)
+        frames = welded_frames(scene, objects, garment_name, w, start, end)
+        os.makedirs(folder, exist_ok=True)
+        cache = os.path.join(folder, f"{bpy.path.clean_name(garment_name)}.welded.pc2")
+        bake.write_pc2_atomic(cache, frames, start_frame=start, sample_rate=1.0)
+        obj = new_mesh_object(scene, f"{garment_name} (animated)", w, uvs, materials,
+                              welded.welded_corner_values(w, corner_index))
+        play(obj, cache, start)
+        if path:
+            try:
+                write_file(context, obj, self.export_format, path, start, end)
+            except Exception:
+                me = obj.data
+                bpy.data.objects.remove(obj)
+                bpy.data.meshes.remove(me)
+                raise
+        where = f"; wrote {os.path.basename(path)}" if path else ""
+        self.report({"INFO"}, f"{obj.name}: frames {start}-{end}, {welded.summary(w)}{where}")
+        return {"FINISHED"}
+
+
+classes = (TAILOR_OT_export_animation,)

@@ -1,0 +1,81 @@
+"""Export Garment Animation: the baked shirt welded into one animated object, written by
+Blender's Alembic and USD exporters and read back by Blender's importers: as many frames, as
+many vertices, and the same positions as the welded cache the scene plays."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import bpy
+
+from simulate_scene import shirt_on_character
+
+FRAMES = (1, 4)
+
+
+def evaluated(obj) -> np.ndarray:
+    dg = bpy.context.evaluated_depsgraph_get()
+    ev = obj.evaluated_get(dg)
+    me = ev.to_mesh()
+    co = np.empty(len(me.vertices) * 3, np.float32)
+    me.vertices.foreach_get("co", co)
+    world = np.array(ev.matrix_world, np.float64)
+    ev.to_mesh_clear()
+    co = co.reshape(-1, 3).astype(np.float64)
+    return co @ world[:3, :3].T + world[:3, 3]
+
+
+@pytest.fixture
+def baked(addon, tmp_path):
+    sc = shirt_on_character(tmp_path / "scene.blend", frames=FRAMES, preroll=0)
+    sc["scene"].tailor_simulate.transition = 0
+    assert bpy.ops.tailor.bake() == {"FINISHED"}
+    return sc
+
+
+def export(**kw):
+    before = set(bpy.data.objects)
+    assert bpy.ops.tailor.export_animation(**kw) == {"FINISHED"}
+    (obj,) = set(bpy.data.objects) - before
+    return obj
+
+
+def imported(op, path) -> bpy.types.Object:
+    before = set(bpy.data.objects)
+    assert op(filepath=str(path)) == {"FINISHED"}
+    meshes = [o for o in set(bpy.data.objects) - before if o.type == "MESH"]
+    assert len(meshes) == 1, meshes
+    return meshes[0]
+
+
+@pytest.mark.parametrize("fmt", ["ABC", "USD"])
+def test_the_welded_animation_reads_back_frame_by_frame(baked, addon, tmp_path, fmt):
+    import tailor
+
+    scene = baked["scene"]
+    path = tmp_path / f"shirt.{'abc' if fmt == 'ABC' else 'usdc'}"
+    obj = export(export_format=fmt, filepath=str(path))
+    assert path.is_file() and obj.name.endswith("(animated)")
+    cache = tailor.read_pc2(str(tmp_path / "tailor_cache" / f"{obj.name.split(' (')[0]}.welded.pc2"))
+    frames = cache["frames"]
+    assert len(frames) == FRAMES[1] - FRAMES[0] + 1 and frames.shape[1] == len(obj.data.vertices)
+    # Welded: fewer vertices than the pieces (the seams' two sides are one vertex).
+    assert len(obj.data.vertices) < sum(len(p.data.vertices) for p in baked["pieces"])
+    read = imported(bpy.ops.wm.alembic_import if fmt == "ABC" else bpy.ops.wm.usd_import, path)
+    assert len(read.data.vertices) == len(obj.data.vertices)
+    moved = 0.0
+    for k, f in enumerate(range(FRAMES[0], FRAMES[1] + 1)):
+        scene.frame_set(f)
+        np.testing.assert_allclose(evaluated(obj), frames[k], atol=1e-5)
+        np.testing.assert_allclose(evaluated(read), frames[k], atol=1e-4)
+        moved = max(moved, float(np.abs(frames[k] - frames[0]).max()))
+    assert moved > 1e-3, "the exported garment does not move over the frames"
+
+
+def test_an_unbaked_garment_is_refused(addon, tmp_path):
+    shirt_on_character(tmp_path / "scene.blend", frames=FRAMES, preroll=0)
+    before = set(bpy.data.objects)
+    with pytest.raises(RuntimeError, match="the garment is not baked"):
+        bpy.ops.tailor.export_animation(export_format="NONE")
+    assert set(bpy.data.objects) == before

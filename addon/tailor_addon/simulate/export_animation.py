@@ -21,11 +21,20 @@ from bpy.props import EnumProperty, StringProperty
 
 from tailor import bake
 
-from .. import compat, scene_data
+from .. import compat
 from ..core import AddonError, welded
 from ..reporting import reports_errors
 from . import job as bake_job
-from .export_welded import corner_materials, corner_uvs, garment_positions, new_mesh_object
+from .export_welded import (
+    alone_selected,
+    default_filepath,
+    garment_positions,
+    output_path,
+    remove_object,
+    removed_on_failure,
+    scene_pieces,
+    welded_object,
+)
 
 FORMATS = [
     ("ABC", "Alembic", "Alembic (.abc), Blender's exporter: Houdini, Maya, Unreal and Blender read it"),
@@ -61,14 +70,8 @@ def play(obj, path: str, start: int) -> None:
 
 
 def write_file(context, obj, fmt: str, path: str, start: int, end: int) -> None:
-    """Writes `obj` alone over `start`-`end` with Blender's exporter (selection restored)."""
-    selected = [o for o in context.view_layer.objects if o.select_get()]
-    active = context.view_layer.objects.active
-    for o in selected:
-        o.select_set(False)
-    obj.select_set(True)
-    context.view_layer.objects.active = obj
-    try:
+    """Writes `obj` alone over `start`-`end` with Blender's Alembic or USD exporter."""
+    with alone_selected(context, obj):
         if fmt == "ABC":
             bpy.ops.wm.alembic_export(filepath=path, start=start, end=end, selected=True, uvs=True,
                                       face_sets=True)
@@ -81,11 +84,6 @@ def write_file(context, obj, fmt: str, path: str, start: int, end: int) -> None:
                                       export_uvmaps=True, export_materials=True)
             finally:
                 scene.frame_start, scene.frame_end = keep
-    finally:
-        obj.select_set(False)
-        for o in selected:
-            o.select_set(True)
-        context.view_layer.objects.active = active
 
 
 class TAILOR_OT_export_animation(bpy.types.Operator):
@@ -108,50 +106,34 @@ class TAILOR_OT_export_animation(bpy.types.Operator):
         if self.export_format == "NONE":
             return self.execute(context)
         if not self.filepath:
-            stem = os.path.splitext(bpy.data.filepath)[0] if bpy.data.filepath else "garment"
-            self.filepath = f"{stem}_garment{EXTENSIONS[self.export_format]}"
+            self.filepath = default_filepath("garment", EXTENSIONS[self.export_format])
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 
     @reports_errors("Exporting the garment animation")
     def execute(self, context):
         scene = context.scene
-        name = self.garment or scene.tailor_simulate.garment or None
-        objects = scene_data.piece_objects(scene, name)
-        if not objects:
-            raise AddonError("the scene has no garment pieces", "Import a pattern first")
+        objects, name, garment_name = scene_pieces(scene, self.garment)
         if not scene.tailor_simulate.baked_frames:
             raise AddonError("the garment is not baked", "Bake it first (Simulate panel > Bake)")
         path = ""
         if self.export_format != "NONE":
-            if not self.filepath:
-                raise AddonError("no file to write", "Choose a file, or set Format to Object Only")
-            path = bpy.path.ensure_ext(bpy.path.abspath(self.filepath), EXTENSIONS[self.export_format])
-            if not os.path.isdir(os.path.dirname(path) or "."):
-                raise AddonError(f"the folder of {path} does not exist", "Choose an existing folder")
+            path = output_path(self.filepath, EXTENSIONS[self.export_format], "Format: Object Only")
         start, end = bake_job.frame_range(scene)
         folder = bake_job.cache_folder(scene)
-        # Everything is computed before the scene changes.
-        g = scene_data.build_garment(scene, name)
-        garment_name = name or (objects[0].tailor_piece.garment or "garment")
-        w = welded.weld(g, garment_positions(scene, objects, garment_name))
-        uvs = {n: welded.welded_corner_values(w, v) for n, v in corner_uvs(objects, g).items()}
-        materials, corner_index = corner_materials(objects)
-        frames = welded_frames(scene, objects, garment_name, w, start, end)
-        os.makedirs(folder, exist_ok=True)
-        cache = os.path.join(folder, f"{bpy.path.clean_name(garment_name)}.welded.pc2")
-        bake.write_pc2_atomic(cache, frames, start_frame=start, sample_rate=1.0)
-        obj = new_mesh_object(scene, f"{garment_name} (animated)", w, uvs, materials,
-                              welded.welded_corner_values(w, corner_index))
+        # The frames are read before the scene changes; the weld is made where the pieces stand.
+        obj, w = welded_object(scene, objects, name, garment_name, "animated")
+        try:
+            frames = welded_frames(scene, objects, garment_name, w, start, end)
+            os.makedirs(folder, exist_ok=True)
+            cache = os.path.join(folder, f"{bpy.path.clean_name(garment_name)}.welded.pc2")
+            bake.write_pc2_atomic(cache, frames, start_frame=start, sample_rate=1.0)
+        except Exception:
+            remove_object(obj)
+            raise
         play(obj, cache, start)
         if path:
-            try:
-                write_file(context, obj, self.export_format, path, start, end)
-            except Exception:
-                me = obj.data
-                bpy.data.objects.remove(obj)
-                bpy.data.meshes.remove(me)
-                raise
+            removed_on_failure(obj, lambda: write_file(context, obj, self.export_format, path, start, end))
         where = f"; wrote {os.path.basename(path)}" if path else ""
         self.report({"INFO"}, f"{obj.name}: frames {start}-{end}, {welded.summary(w)}{where}")
         return {"FINISHED"}

@@ -10,6 +10,7 @@ The object is optionally written with Blender's own OBJ or glTF exporter.
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
 
 import bpy
 import numpy as np
@@ -129,8 +130,9 @@ def new_mesh_object(scene, name: str, w, uvs: dict[str, np.ndarray], materials=N
     return obj
 
 
-def write_file(context, obj, fmt: str, path: str) -> None:
-    """Writes `obj` alone with Blender's exporter (selection restored afterwards)."""
+@contextmanager
+def alone_selected(context, obj):
+    """`obj` alone selected and active while an exporter writes it (selection restored)."""
     selected = [o for o in context.view_layer.objects if o.select_get()]
     active = context.view_layer.objects.active
     for o in selected:
@@ -138,6 +140,17 @@ def write_file(context, obj, fmt: str, path: str) -> None:
     obj.select_set(True)
     context.view_layer.objects.active = obj
     try:
+        yield
+    finally:
+        obj.select_set(False)
+        for o in selected:
+            o.select_set(True)
+        context.view_layer.objects.active = active
+
+
+def write_file(context, obj, fmt: str, path: str) -> None:
+    """Writes `obj` alone with Blender's OBJ or glTF exporter."""
+    with alone_selected(context, obj):
         if fmt == "OBJ":
             bpy.ops.wm.obj_export(
                 filepath=path, export_selected_objects=True, export_uv=True,
@@ -147,11 +160,58 @@ def write_file(context, obj, fmt: str, path: str) -> None:
             if not hasattr(bpy.ops.export_scene, "gltf"):
                 raise AddonError("Blender's glTF exporter is not enabled", "Enable the glTF 2.0 add-on, or export OBJ")
             bpy.ops.export_scene.gltf(filepath=path, export_format="GLB", use_selection=True)
-    finally:
-        obj.select_set(False)
-        for o in selected:
-            o.select_set(True)
-        context.view_layer.objects.active = active
+
+
+def default_filepath(suffix: str, ext: str) -> str:
+    """Beside the .blend: `<blend>_<suffix><ext>` (or `garment_...` for an unsaved file)."""
+    stem = os.path.splitext(bpy.data.filepath)[0] if bpy.data.filepath else "garment"
+    return f"{stem}_{suffix}{ext}"
+
+
+def output_path(filepath: str, ext: str, none_choice: str) -> str:
+    """The file an exporter writes: `filepath` made absolute with `ext`, in an existing folder."""
+    if not filepath:
+        raise AddonError("no file to write", f"Choose a file, or choose {none_choice}")
+    path = bpy.path.ensure_ext(bpy.path.abspath(filepath), ext)
+    if not os.path.isdir(os.path.dirname(path) or "."):
+        raise AddonError(f"the folder of {path} does not exist", "Choose an existing folder")
+    return path
+
+
+def scene_pieces(scene, garment: str):
+    """The pieces of `garment` (empty: the Simulate panel's garment) and the garment's name."""
+    name = garment or scene.tailor_simulate.garment or None
+    objects = scene_data.piece_objects(scene, name)
+    if not objects:
+        raise AddonError("the scene has no garment pieces", "Import a pattern first")
+    return objects, name, name or (objects[0].tailor_piece.garment or "garment")
+
+
+def welded_object(scene, objects, name, garment_name: str, label: str):
+    """The garment welded where its pieces stand now, as a new object `<garment> (<label>)` with
+    the pieces' UVs and materials; returns the object and the weld (`tailor.WeldedMesh`)."""
+    g = scene_data.build_garment(scene, name)
+    w = welded.weld(g, garment_positions(scene, objects, garment_name))
+    uvs = {n: welded.welded_corner_values(w, v) for n, v in corner_uvs(objects, g).items()}
+    materials, corner_index = corner_materials(objects)
+    corner_index = welded.welded_corner_values(w, corner_index)
+    return new_mesh_object(scene, f"{garment_name} ({label})", w, uvs, materials, corner_index), w
+
+
+def remove_object(obj) -> None:
+    """Removes `obj` (just added) and its mesh."""
+    me = obj.data
+    bpy.data.objects.remove(obj)
+    bpy.data.meshes.remove(me)
+
+
+def removed_on_failure(obj, write) -> None:
+    """Runs `write()`; if it fails, `obj` (just added) and its mesh are removed first."""
+    try:
+        write()
+    except Exception:
+        remove_object(obj)
+        raise
 
 
 class TAILOR_OT_export_welded(bpy.types.Operator):
@@ -172,41 +232,21 @@ class TAILOR_OT_export_welded(bpy.types.Operator):
         if self.export_format == "NONE":
             return self.execute(context)
         if not self.filepath:
-            stem = os.path.splitext(bpy.data.filepath)[0] if bpy.data.filepath else "garment"
-            self.filepath = f"{stem}_welded{EXTENSIONS[self.export_format]}"
+            self.filepath = default_filepath("welded", EXTENSIONS[self.export_format])
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 
     @reports_errors("Exporting the welded garment")
     def execute(self, context):
         scene = context.scene
-        name = self.garment or scene.tailor_simulate.garment or None
-        objects = scene_data.piece_objects(scene, name)
-        if not objects:
-            raise AddonError("the scene has no garment pieces", "Import a pattern first")
+        objects, name, garment_name = scene_pieces(scene, self.garment)
         path = ""
         if self.export_format != "NONE":
-            if not self.filepath:
-                raise AddonError("no file to write", "Choose a file, or set Write to Object Only")
-            path = bpy.path.ensure_ext(bpy.path.abspath(self.filepath), EXTENSIONS[self.export_format])
-            if not os.path.isdir(os.path.dirname(path) or "."):
-                raise AddonError(f"the folder of {path} does not exist", "Choose an existing folder")
+            path = output_path(self.filepath, EXTENSIONS[self.export_format], "Write: Object Only")
         # Everything is computed before the scene changes.
-        g = scene_data.build_garment(scene, name)
-        garment_name = name or (objects[0].tailor_piece.garment or "garment")
-        w = welded.weld(g, garment_positions(scene, objects, garment_name))
-        uvs = {n: welded.welded_corner_values(w, v) for n, v in corner_uvs(objects, g).items()}
-        materials, corner_index = corner_materials(objects)
-        corner_index = welded.welded_corner_values(w, corner_index)
-        obj = new_mesh_object(scene, f"{garment_name} (welded)", w, uvs, materials, corner_index)
+        obj, w = welded_object(scene, objects, name, garment_name, "welded")
         if path:
-            try:
-                write_file(context, obj, self.export_format, path)
-            except Exception:
-                me = obj.data
-                bpy.data.objects.remove(obj)
-                bpy.data.meshes.remove(me)
-                raise
+            removed_on_failure(obj, lambda: write_file(context, obj, self.export_format, path))
         where = f"; wrote {os.path.basename(path)}" if path else ""
         self.report({"INFO"}, f"{obj.name}: {welded.summary(w)}{where}")
         return {"FINISHED"}

@@ -146,12 +146,16 @@ class BakeJob:
     def report_path(self) -> str:
         return os.path.join(self.folder, f"{bpy.path.clean_name(self.garment_name)}.report.json")
 
-    def write_caches(self) -> list[str]:
-        """The caches with every frame done, and the quality report (as `tailor simulate` writes it)."""
+    def write_frames(self, paths: list[str]) -> list[str]:
+        """Every frame done into `paths` (the caches or the checkpoint), atomically."""
         os.makedirs(self.folder, exist_ok=True)
-        paths = self.cache_paths()
         for path, frames in zip(paths, self.local_frames(self.run.positions())):
             bake.write_pc2_atomic(path, frames, start_frame=self.start, sample_rate=1.0)
+        return paths
+
+    def write_caches(self) -> list[str]:
+        """The caches with every frame done, and the quality report (as `tailor simulate` writes it)."""
+        paths = self.write_frames(self.cache_paths())
         report = {
             "frames": self.run.records,
             "summary": self.run.summary(),
@@ -177,9 +181,7 @@ class BakeJob:
         done = len(self.run.frames)
         if done == count or time.monotonic() - at < CHECKPOINT_S:
             return False
-        os.makedirs(self.folder, exist_ok=True)
-        for path, frames in zip(self.checkpoint_paths(), self.local_frames(self.run.positions())):
-            bake.write_pc2_atomic(path, frames, start_frame=self.start, sample_rate=1.0)
+        self.write_frames(self.checkpoint_paths())
         self.written = (time.monotonic(), done)
         return True
 

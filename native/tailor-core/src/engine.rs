@@ -125,7 +125,8 @@ impl Solver {
         if options.backend == Backend::Cpu {
             return;
         }
-        if options.backend == Backend::Auto && self.sim.num_particles() < AUTO_GPU_MIN_PARTICLES {
+        // Not even a discrete adapter would be used: no adapter is asked for.
+        if options.backend == Backend::Auto && !auto_uses_gpu(true, self.sim.num_particles()) {
             return;
         }
         match GpuSolver::new(GpuOptions { force_no_adapter: options.force_no_adapter }) {

@@ -14,21 +14,21 @@ pub fn gate_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
     vec![(1, &b.state)]
 }
 
+/// `REDUCE` in `chebyshev.wgsl`: threads a workgroup, and partial sums.
+pub const REDUCE: usize = 256;
+
 /// Workgroups of `reduce_partial` for `n` particles: enough that each thread sums a few
 /// (16 at most below a million), at most `REDUCE` (the slots of `partials`).
 pub fn reduce_groups(n: usize) -> u32 {
     n.div_ceil(REDUCE * 16).clamp(1, REDUCE) as u32
 }
 
-/// `REDUCE` in `chebyshev.wgsl`: threads a workgroup, and partial sums.
-pub const REDUCE: usize = 256;
-
 pub fn reduce_partial_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
     vec![(0, &b.params), (1, &b.state), (2, &b.norms), (6, &b.partials)]
 }
 
 pub fn reduce_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {
-    vec![(1, &b.state), (0, &b.params), (6, &b.partials)]
+    vec![(0, &b.params), (1, &b.state), (6, &b.partials)]
 }
 
 pub fn extrapolate_entries(b: &Buffers) -> Vec<(u32, &wgpu::Buffer)> {

@@ -283,11 +283,6 @@ impl GpuSolver {
         self.ctx.info.device_type == wgpu::DeviceType::DiscreteGpu
     }
 
-    /// Whether the adapter is a software rasteriser (lavapipe, SwiftShader, WARP).
-    pub fn is_software(&self) -> bool {
-        self.ctx.info.device_type == wgpu::DeviceType::Cpu
-    }
-
     /// The simulation was edited on the CPU: upload everything again before the next step.
     pub fn mark_dirty(&mut self) {
         self.dirty = true;

@@ -49,6 +49,16 @@ pub(super) fn kernel_marks(plan: &[Dispatch<'_>]) -> Vec<(usize, Stage)> {
     plan.iter().enumerate().map(|(k, d)| (k, d.stage)).collect()
 }
 
+/// The three passes of a table's scan (`hash.wgsl`): pipeline, bind group, workgroups.
+fn scan<'a>(
+    pl: &'a Pipelines,
+    groups: &'a [wgpu::BindGroup; 3],
+    buckets: usize,
+) -> [(&'a wgpu::ComputePipeline, &'a wgpu::BindGroup, u32); 3] {
+    let blocks = hash::scan_blocks(buckets) as u32;
+    [(&pl.scan_blocks, &groups[0], blocks), (&pl.scan_sums, &groups[1], 1), (&pl.scan_apply, &groups[2], blocks)]
+}
+
 /// The dispatches of one frame of `substeps` × `iterations` for the uploaded scene `u`;
 /// `rebuild_each_substep`: a collider moves (its hash is rebuilt every substep), else
 /// `rebuild_first`: built once, in the first substep.
@@ -81,10 +91,9 @@ pub(super) fn frame<'a>(
             let wg = mesh_hash::WORKGROUP;
             add("mesh_lerp", &pl.mesh_lerp, &g.mesh_lerp, groups(u.n_mesh_verts, wg));
             add("mesh_count", &pl.mesh_count, &g.mesh_count, groups(u.n_mesh_tris, wg));
-            let blocks = hash::scan_blocks(u.mesh_buckets) as u32;
-            add("mesh_scan", &pl.scan_blocks, &g.mesh_scan[0], blocks);
-            add("mesh_scan", &pl.scan_sums, &g.mesh_scan[1], 1);
-            add("mesh_scan", &pl.scan_apply, &g.mesh_scan[2], blocks);
+            for (p, b, n) in scan(pl, &g.mesh_scan, u.mesh_buckets) {
+                add("mesh_scan", p, b, n);
+            }
             add("mesh_scatter", &pl.mesh_scatter, &g.mesh_scatter, groups(u.n_mesh_tris, wg));
             add("mesh_sort", &pl.hash_sort, &g.mesh_sort, groups(u.mesh_buckets, hash::WORKGROUP));
         }
@@ -126,10 +135,9 @@ pub(super) fn frame<'a>(
             if u.self_enabled {
                 let wg = self_collide::WORKGROUP;
                 add("self_count", &pl.self_count, &g.self_count, groups(n, wg));
-                let blocks = hash::scan_blocks(u.self_buckets) as u32;
-                add("self_scan", &pl.scan_blocks, &g.self_scan[0], blocks);
-                add("self_scan", &pl.scan_sums, &g.self_scan[1], 1);
-                add("self_scan", &pl.scan_apply, &g.self_scan[2], blocks);
+                for (p, b, n) in scan(pl, &g.self_scan, u.self_buckets) {
+                    add("self_scan", p, b, n);
+                }
                 add("self_scatter", &pl.self_scatter, &g.self_scatter, groups(n, wg));
                 add("self_sort", &pl.hash_sort, &g.self_sort, groups(u.self_buckets, hash::WORKGROUP));
                 add("self_gather", &pl.self_gather, &g.self_gather, groups(n, wg));

@@ -31,7 +31,7 @@ pub const AUTO_GPU_MIN_PARTICLES: usize = 10_000;
 
 /// `Auto`'s rule, from what was measured: the GPU on a discrete adapter from
 /// [`AUTO_GPU_MIN_PARTICLES`] up. Integrated, virtual and software adapters stay on the CPU:
-/// on lavapipe (software Vulkan) the GPU path was 4-20 times slower at every size, and no
+/// on lavapipe (software Vulkan) the GPU path was 3-12 times slower at every size, and no
 /// integrated GPU has been measured.
 pub fn auto_uses_gpu(discrete: bool, particles: usize) -> bool {
     discrete && particles >= AUTO_GPU_MIN_PARTICLES

@@ -6,8 +6,8 @@ vertices), so studios are handed the welded garment (issue 24: the welded garmen
 default for every format). The garment is welded once (`tailor.weld` through `core.welded`, as
 Export Welded Garment does, UVs and materials kept) and each frame of the scene's range, as the
 pieces play it (their Mesh Cache, or the joined garment object's), is carried over
-(`WeldedMesh.apply`) into a PC2 cache beside the bake's, played on the welded object by a Mesh
-Cache modifier: the scene shows what was written. Blender's exporter then writes the object over
+(`WeldedMesh.apply`) into a PC2 cache beside the bake's, named after the welded object and
+played on it by a Mesh Cache modifier: the scene shows what was written. Blender's exporter then writes the object over
 the range (Alembic: `wm.alembic_export`; USD: `wm.usd_export`).
 """
 
@@ -126,7 +126,8 @@ class TAILOR_OT_export_animation(bpy.types.Operator):
         try:
             frames = welded_frames(scene, objects, garment_name, w, start, end)
             os.makedirs(folder, exist_ok=True)
-            cache = os.path.join(folder, f"{bpy.path.clean_name(garment_name)}.welded.pc2")
+            # Named after the object (unique in the file): a second export gets a cache of its own.
+            cache = os.path.join(folder, f"{bpy.path.clean_name(obj.name)}.pc2")
             bake.write_pc2_atomic(cache, frames, start_frame=start, sample_rate=1.0)
         except Exception:
             remove_object(obj)

@@ -42,3 +42,22 @@ def side_by_side(rests: list[np.ndarray], gap: float = 0.05, start_x: float = 0.
         out.append((float(cursor - lo[0]), float(-lo[1]), 0.0))
         cursor += float(hi[0] - lo[0]) + gap
     return out
+
+
+def rotation_matrix(euler: tuple[float, float, float]) -> np.ndarray:
+    """The 3x3 rotation of Euler angles (radians) in PLACEMENT_ROTATION_MODE: Rx·Ry·Rz."""
+    a, b, c = (float(x) for x in euler)
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(a), -math.sin(a)], [0.0, math.sin(a), math.cos(a)]])
+    ry = np.array([[math.cos(b), 0.0, math.sin(b)], [0.0, 1.0, 0.0], [-math.sin(b), 0.0, math.cos(b)]])
+    rz = np.array([[math.cos(c), -math.sin(c), 0.0], [math.sin(c), math.cos(c), 0.0], [0.0, 0.0, 1.0]])
+    return rx @ ry @ rz
+
+
+def euler_of(r: np.ndarray) -> tuple[float, float, float]:
+    """Euler angles (radians, PLACEMENT_ROTATION_MODE) of a rotation matrix: the inverse of
+    `rotation_matrix` (at gimbal lock, where only a + c counts, c = 0)."""
+    r = np.asarray(r, np.float64)
+    b = math.asin(max(-1.0, min(1.0, r[0, 2])))
+    if abs(r[0, 2]) < 1.0 - 1e-9:
+        return math.atan2(-r[1, 2], r[2, 2]), b, math.atan2(-r[0, 1], r[0, 0])
+    return math.atan2(r[2, 1], r[1, 1]), b, 0.0

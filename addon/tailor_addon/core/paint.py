@@ -45,3 +45,35 @@ def values(key: str, weights: np.ndarray) -> np.ndarray:
         # Logarithmic: bending stiffness spans decades (a collar or a cuff is 10-100x the body).
         return np.power(BEND_SCALE_RANGE, 2.0 * w - 1.0).astype(np.float32)
     return w
+
+
+def weights(key: str, params: np.ndarray) -> tuple[np.ndarray, int]:
+    """The weights that give solver parameters `params` of map `key` (the inverse of `values`),
+    float32, and how many had to be clipped to what a weight holds (0..1: a friction over 1, a
+    mass scale over 2 or under MASS_SCALE_MIN, a bend scale beyond 100x either way)."""
+    p = np.asarray(params, np.float64)
+    if key == "mass_scale":
+        w = p / 2.0
+    elif key == "bend_scale":
+        w = (np.log(np.maximum(p, 1e-30)) / np.log(BEND_SCALE_RANGE) + 1.0) / 2.0
+    else:
+        w = p
+    # A tolerance of a float32 step: a bend scale of exactly 100 may come back as 1 + 1e-8.
+    out = (w < -1e-6) | (w > 1.0 + 1e-6)
+    if key == "mass_scale":
+        out |= p < MASS_SCALE_MIN * (1.0 - 1e-6)  # `values` never gives less
+    clipped = int(np.count_nonzero(out))
+    return np.clip(w, 0.0, 1.0).astype(np.float32), clipped
+
+
+def unpainted(key: str, friction: dict) -> float:
+    """What the module gives an unpainted vertex of map `key` (the garment setup's rule,
+    `GarmentSetup::unpainted`): the cloth's friction (`friction`, the setup's), scales of 1,
+    no pin."""
+    if key in ("mass_scale", "bend_scale"):
+        return 1.0
+    if key == "friction_static":
+        return float(friction["static"])
+    if key == "friction_kinetic":
+        return float(friction["kinetic"])
+    return 0.0

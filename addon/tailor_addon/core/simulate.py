@@ -114,12 +114,42 @@ class SimSettings:
         }
 
 
+def setup_settings(setup: dict) -> dict:
+    """The Simulate panel's settings (`Scene.tailor_simulate`, by property name) that give a
+    garment's setup: the inverse of `SimSettings.setup` (a garment file read back). The setup's
+    name, fabrics and collider levels belong to the pieces and the collider, not the panel."""
+    return {
+        "thickness": float(setup["thickness"]),
+        "friction_static": float(setup["friction"]["static"]),
+        "friction_kinetic": float(setup["friction"]["kinetic"]),
+        "self_collision": bool(setup["self_collision"]),
+        "self_collision_radius": float(setup["self_collision_radius"]),
+        "pin_mode": str(setup["pin_mode"]).upper(),
+        "pin_stiffness": float(setup["pin_stiffness"]),
+        "seam_stiffness": float(setup["seam_stiffness"]),
+        "seam_bend_stiffness": float(setup["seam_bend_stiffness"]),
+    }
+
+
 @dataclass
 class PieceFabric:
     density: float
     stretch: float
     shear: float
     bend: float
+
+
+def setup_fabrics(setup: dict, count: int) -> list[PieceFabric]:
+    """Each of `count` pieces' fabric in a garment's setup (an empty list: the module's default
+    fabric for every piece, as `Garment.build_simulation` reads it)."""
+    given = setup.get("fabrics") or []
+    if given and len(given) != count:
+        raise AddonError(f"the garment's setup has {len(given)} fabrics for {count} pieces",
+                         "Export the garment again")
+    if not given:
+        d = tailor.Fabric()
+        return [PieceFabric(d.density, d.stretch, d.shear, d.bend) for _ in range(count)]
+    return [PieceFabric(float(f["density"]), float(f["stretch"]), float(f["shear"]), float(f["bend"])) for f in given]
 
 
 @dataclass

@@ -6,6 +6,7 @@ import bpy
 # (idname, label) in workflow order; tests check that every registered Tailor operator is here.
 OPERATORS = (
     ("tailor.import_pattern", "Import Sewing Pattern…"),
+    ("tailor.import_garment", "Import Tailor Garment…"),
     ("tailor.set_resolution", "Set Piece Resolution…"),
     ("tailor.export_garment", "Export Tailor Garment…"),
     None,

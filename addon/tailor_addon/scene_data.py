@@ -114,6 +114,29 @@ def write_mesh(me, arrays: MeshArrays) -> None:
     me.update()
 
 
+def new_piece_object(coll, name: str, arrays: MeshArrays, *, piece_json: str, source_path: str, source_index: int,
+                     edge_length: float, mesher: int, contour_length: float):
+    """A new piece object in collection `coll`, as every importer makes one: named after the
+    piece, its mesh written from `arrays`, its `tailor_piece` settings saying where it came
+    from and how it is meshed (so Set Resolution and the seams find it), the garment being
+    the collection's name."""
+    me = bpy.data.meshes.new(name)
+    write_mesh(me, arrays)
+    obj = bpy.data.objects.new(name, me)
+    coll.objects.link(obj)
+    p = obj.tailor_piece
+    p.is_piece = True
+    p.piece_name = name
+    p.garment = coll.name
+    p.source_path = source_path
+    p.source_index = source_index
+    p.piece_json = piece_json
+    p.edge_length = edge_length
+    p.mesher = mesher
+    p.contour_length = contour_length
+    return obj
+
+
 # ---- pieces and seams ---------------------------------------------------------------------
 
 

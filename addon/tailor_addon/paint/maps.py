@@ -45,3 +45,22 @@ def painted_maps(obj) -> dict:
     if levels is not None:
         out["collision_level"] = (levels, np.ones(len(levels), bool))
     return out
+
+
+def write_group(obj, group: str, indices: np.ndarray, weights: np.ndarray) -> None:
+    """Vertex group `group` of `obj` (made if missing) with `weights` on vertices `indices`;
+    one `add` per distinct weight (a painted map has few)."""
+    vg = obj.vertex_groups.get(group) or obj.vertex_groups.new(name=group)
+    indices, weights = np.asarray(indices, np.int64), np.asarray(weights, np.float32)
+    for w in np.unique(weights):
+        vg.add(indices[weights == w].tolist(), float(w), "REPLACE")
+
+
+def write_collision_levels(obj, levels: np.ndarray) -> None:
+    """Replaces the object's collision levels (the INT point attribute) with `levels`."""
+    me = obj.data
+    old = me.attributes.get(LEVEL_ATTR)
+    if old is not None:
+        me.attributes.remove(old)
+    me.attributes.new(LEVEL_ATTR, "INT", "POINT").data.foreach_set("value", np.asarray(levels, np.int32))
+    me.update()

@@ -1,8 +1,9 @@
-"""Patterns: import DXF, SVG and GarmentCode JSON as piece objects; change a piece's resolution."""
+"""Patterns: import DXF, SVG and GarmentCode JSON as piece objects; change a piece's resolution;
+export the garment as a Tailor garment file and import one back."""
 
-from . import operators, properties, ui
+from . import import_garment, operators, properties, ui
 
-classes = properties.classes + operators.classes + ui.classes
+classes = properties.classes + operators.classes + import_garment.classes + ui.classes
 
 
 def register() -> None:

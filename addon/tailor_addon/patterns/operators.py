@@ -29,6 +29,16 @@ UNITS = [
 ]
 
 
+def select_only(context, objects: list) -> None:
+    """Selects exactly `objects` (what an import made), the first one active."""
+    for o in context.view_layer.objects:
+        o.select_set(False)
+    for o in objects:
+        o.select_set(True)
+    if objects:
+        context.view_layer.objects.active = objects[0]
+
+
 class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
     bl_idname = "tailor.import_pattern"
     bl_label = "Import Sewing Pattern"
@@ -94,20 +104,9 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
         scene.collection.children.link(coll)
         objects = []
         for i, (piece, mesh, arr) in enumerate(zip(pieces, meshes, arrays)):
-            me = bpy.data.meshes.new(piece.name)
-            scene_data.write_mesh(me, arr)
-            obj = bpy.data.objects.new(piece.name, me)
-            coll.objects.link(obj)
-            p = obj.tailor_piece
-            p.is_piece = True
-            p.piece_name = piece.name
-            p.garment = coll.name
-            p.source_path = path
-            p.source_index = i
-            p.piece_json = piece.to_json()
-            p.edge_length = self.edge_length
-            p.mesher = tailor.MESHER_VERSION
-            p.contour_length = mesh.contour_length
+            obj = scene_data.new_piece_object(
+                coll, piece.name, arr, piece_json=piece.to_json(), source_path=path, source_index=i,
+                edge_length=self.edge_length, mesher=tailor.MESHER_VERSION, contour_length=mesh.contour_length)
             if i in locations:
                 obj.location = locations[i]
             else:
@@ -117,12 +116,7 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
         for seam, r in zip(seams, resolved):
             add_seam_item(scene, seam, objects, r)
 
-        for o in context.view_layer.objects:
-            o.select_set(False)
-        for o in objects:
-            o.select_set(True)
-        if objects:
-            context.view_layer.objects.active = objects[0]
+        select_only(context, objects)
         for w in g.warnings:
             self.report({"WARNING"}, w)
         self.report({"INFO"}, f"Imported {len(objects)} pieces and {len(seams)} seams from {os.path.basename(path)}")

@@ -1,4 +1,4 @@
-"""The Patterns panel and the File > Import entry."""
+"""The Patterns panel and the File > Import and File > Export entries."""
 
 import bpy
 
@@ -48,6 +48,7 @@ class TAILOR_PT_patterns(TailorPanel, bpy.types.Panel):
 
 def menu_import(self, context):
     self.layout.operator("tailor.import_pattern", text="Sewing Pattern (.dxf, .svg, .json)")
+    self.layout.operator("tailor.import_garment", text="Tailor Garment (.json)")
 
 
 def menu_export(self, context):

@@ -78,8 +78,9 @@ pub struct CollisionStats {
     /// has moved half the search margin).
     pub self_searches: u32,
     /// Particle-vs-mesh tests the iterations ran in full; those the broad phase skipped (a
-    /// particle still free within the radius of its last test); and those it ran against the
-    /// particle's nearest candidate alone (`mesh_broad_phase.rs`).
+    /// particle still free within the radius of its last test); and those it answered from the
+    /// particle's shortlist of nearest candidates (`mesh_broad_phase.rs`; the name is from when
+    /// the list held the nearest alone).
     pub contact_tests: u64,
     pub contact_skips: u64,
     pub contact_nearest: u64,

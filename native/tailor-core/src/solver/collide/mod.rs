@@ -130,6 +130,22 @@ impl Collisions {
         self.self_state.invalidate();
     }
 
+    /// Heap bytes of the per-particle collision state: contact pushes, the broad phase's
+    /// shortlists, levels, friction, the mesh contacts and the self-collision pass's
+    /// per-particle buffers. Not counted: the colliders' own meshes and hashes (they grow with
+    /// the body, not the garment) and the self-collision pair finder.
+    pub fn particle_bytes(&self) -> usize {
+        use crate::solver::model::soa::vec_bytes;
+        let friction = self.friction.as_ref().map_or(0, |(a, b)| vec_bytes(a) + vec_bytes(b));
+        vec_bytes(&self.pushes)
+            + vec_bytes(&self.reuse)
+            + vec_bytes(&self.levels)
+            + friction
+            + vec_bytes(&self.contact_tri)
+            + vec_bytes(&self.contact_bary)
+            + self.self_state.particle_bytes()
+    }
+
     pub(crate) fn particle_friction(&self, i: usize, default: (f32, f32)) -> (f32, f32) {
         match &self.friction {
             Some((s, k)) => (s[i], k[i]),

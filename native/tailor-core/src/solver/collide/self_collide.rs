@@ -230,6 +230,12 @@ pub(crate) struct PassInput<'a> {
 }
 
 impl SelfCollide {
+    /// Heap bytes of the per-particle buffers (not the pair finder).
+    pub fn particle_bytes(&self) -> usize {
+        use crate::solver::model::soa::vec_bytes;
+        vec_bytes(&self.delta) + vec_bytes(&self.count) + self.x_ref.memory_bytes()
+    }
+
     /// One pass of pair corrections on `x`.
     ///
     /// The hash search is not redone every pass: it looks for pairs closer than `2r + m`

@@ -28,7 +28,7 @@ use super::Simulation;
 use crate::error::{Result, TailorError};
 use crate::solver::collide::contacts::CONTACT_WEIGHT_FACTOR;
 use crate::solver::collide::levels;
-use crate::solver::collide::mesh_broad_phase::{rounding_margin, Reuse, FREE};
+use crate::solver::collide::mesh_broad_phase::{rounding_margin, Reuse, Shortlist};
 use crate::solver::collide::mesh_collider::MeshCollider;
 use crate::solver::collide::self_collide::PassInput;
 use crate::solver::collide::{ColliderId, CollisionSkips, MeshColliderOptions, SelfCollisionSettings, MESH_CONTACT};
@@ -232,10 +232,10 @@ impl Simulation {
     /// The iterations' test of every particle against the mesh colliders, with a broad phase
     /// that is exact (`mesh_broad_phase.rs`): within a substep the colliders do not move, and a
     /// particle that stayed within the radius its last test found is free without a test, or is
-    /// tested against its nearest candidate alone. With several mesh colliders only the first
-    /// kind applies (the least radius over them). The contacts are exactly those of testing
-    /// every candidate of every particle in every iteration. `None` for pinned or free
-    /// particles.
+    /// tested against its shortlist of nearest candidates alone. With several mesh colliders
+    /// only the first kind applies (the least radius over them). The contacts are exactly those
+    /// of testing every candidate of every particle in every iteration. `None` for pinned or
+    /// free particles.
     fn mesh_contacts_of_iteration(&mut self) -> Vec<Option<(u32, crate::collision::Contact)>> {
         let (x, meshes, levels, pinned, th) =
             (&self.x, &self.collide.meshes, &self.collide.levels, &self.model.pinned, self.thickness);
@@ -254,23 +254,23 @@ impl Simulation {
                 }
                 let p = x.get(i);
                 if broad_phase && r.radius > 0.0 && p.distance_squared(Vec3::from(r.at)) < r.radius * r.radius {
-                    if r.nearest == FREE {
+                    if r.len == 0 {
                         skipped.fetch_add(1, Relaxed);
                         return None;
                     }
-                    if let Some(hit) = meshes[0].test_nearest(p, r.nearest, th) {
+                    if let Some(hit) = meshes[0].test_shortlist(p, &r.near[..r.len as usize], th) {
                         nearest.fetch_add(1, Relaxed);
                         return hit.map(|h| (0, h));
                     }
                 }
                 let mut best: Option<(u32, crate::collision::Contact)> = None;
-                let (mut radius, mut near) = (f32::INFINITY, FREE);
+                let (mut radius, mut near) = (f32::INFINITY, Shortlist::FREE);
                 for (k, m) in meshes.iter().enumerate() {
-                    let (hit, rad, tri) = m.test_for_reuse(p, levels[i], th, broad_phase);
+                    let (hit, rad, list) = m.test_for_reuse(p, levels[i], th, broad_phase);
                     radius = radius.min(rad);
-                    if tri != FREE {
-                        // Resting on one collider's nearest triangle is a reuse for one collider only.
-                        (radius, near) = if one { (radius, tri) } else { (0.0, FREE) };
+                    if !list.is_free() {
+                        // A shortlist of one collider's triangles is a reuse for one collider only.
+                        (radius, near) = if one { (radius, list) } else { (0.0, Shortlist::FREE) };
                     }
                     if let Some(hit) = hit {
                         if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
@@ -278,7 +278,7 @@ impl Simulation {
                         }
                     }
                 }
-                *r = Reuse { at: p.into(), radius: radius - rounding_margin(p), nearest: near };
+                *r = Reuse { at: p.into(), radius: radius - rounding_margin(p), near: near.near, len: near.len };
                 best
             })
             .collect();

@@ -173,8 +173,9 @@ impl Simulation {
     /// The heap size of the solver's whole state in bytes: the [`Model`] (see
     /// [`Model::memory_bytes`]) plus every per-particle array of the moving state and the
     /// scratch buffers (positions, velocities, predictions, iterates, right-hand side, diagonal,
-    /// slots, contacts, pin targets, the free list, colliders). Counts `Vec` capacities, not
-    /// allocator overhead or the fixed-size struct itself.
+    /// slots, contacts, pin targets, the free list, colliders) and the per-particle collision
+    /// state (`Collisions::particle_bytes`, the broad phase's shortlists included). Counts
+    /// `Vec` capacities, not allocator overhead or the fixed-size struct itself.
     pub fn memory_bytes(&self) -> usize {
         use crate::solver::model::soa::vec_bytes;
         self.model.memory_bytes()
@@ -190,6 +191,7 @@ impl Simulation {
             + self.contacts.memory_bytes()
             + self.pin_target.memory_bytes()
             + vec_bytes(&self.free)
+            + self.collide.particle_bytes()
     }
 
     /// Replaces the settings (validated first; nothing changes on error).

@@ -269,3 +269,33 @@ def test_garment_from_parts_rebuilds_the_same_garment(tmp_path):
         tailor.Garment.from_parts(pieces[:1], [0.04], [], bends=[{"axis_point": [0, 0, 0], "axis_direction": [0, 1, 0]}])
     with pytest.raises(tailor.SeamError):
         tailor.Garment.from_parts(pieces[:1], [0.04], [g.seams[0]])
+
+
+def test_garment_gives_back_its_placements_bends_and_meshers(tmp_path):
+    """What `from_parts` takes, a saved and loaded garment gives back (`placements`, `bends`,
+    `meshers`): a piece without its own placement has its pattern piece's, a bend keeps its
+    radius, symmetry and mode, and `from_parts` with them builds the same simulation."""
+    g = tailor.Garment.from_pattern(str(SHIRT), edge=0.04)
+    pieces = g.pieces
+    moved = dict(pieces[0].placement, translation=[0.1, 0.2, 0.3])
+    bend = {"axis_point": [0.0, 1.2, 0.0], "axis_direction": [0.0, 1.0, 0.0], "angle_deg": -30.0,
+            "symmetry": ((0.0, 0.0), (0.0, 1.0)), "threshold": 0.01, "radius": 0.08, "mode": "roll"}
+    n = len(pieces)
+    g2 = tailor.Garment.from_parts(pieces, g.edge_lengths, g.seams, placements=[moved] + [None] * (n - 1),
+                                   bends=[None, None, bend] + [None] * (n - 3), meshers=[1] + [g.meshers[1]] * (n - 1))
+    g2.save(str(tmp_path / "g.json"))
+    g3 = tailor.Garment.load(str(tmp_path / "g.json"))
+    placements = g3.placements
+    assert placements[0]["translation"] == pytest.approx(moved["translation"])
+    assert placements[0]["rotation_deg"] == pytest.approx(moved["rotation_deg"])
+    for p, source in zip(placements[1:], pieces[1:]):
+        assert p["translation"] == pytest.approx(source.placement["translation"])
+    bends = g3.bends
+    assert bends[:2] == [None, None] and all(b is None for b in bends[3:])
+    assert {k: bends[2][k] for k in ("angle_deg", "threshold", "radius", "mode")} == \
+        {k: bend[k] for k in ("angle_deg", "threshold", "radius", "mode")}
+    assert bends[2]["axis_point"] == bend["axis_point"] and bends[2]["symmetry"] == bend["symmetry"]
+    assert g3.meshers == [1] + [g.meshers[1]] * (n - 1)
+    g4 = tailor.Garment.from_parts(g3.pieces, g3.edge_lengths, g3.seams, placements=placements, bends=bends,
+                                   meshers=g3.meshers)
+    np.testing.assert_array_equal(g3.build_simulation()[0].positions, g4.build_simulation()[0].positions)

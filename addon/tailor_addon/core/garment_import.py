@@ -10,10 +10,9 @@ resolved on the pieces, the Simulate panel's settings and the collider's painted
 Blender layer (`patterns/import_garment.py`) only writes these into the scene, so everything
 here is computed, and every error raised, before the scene changes.
 
-The module gives placements and bends only to the simulation it builds, not back as values: they
-are read from the manifest (the file's `.json`) once the module has accepted the file, with the
-manifest's own rules (a piece's placement falls back on its pattern piece's; a bend without a
-`mode` is the paper's rotation, as the module reads files written before the roll).
+Placements, bends and meshers come from the module's getters (`Garment.placements`, `bends`,
+`meshers`), with the file's own rules applied there (a piece's placement falls back on its pattern
+piece's; a bend without a `mode` is the paper's rotation, as in files written before the roll).
 
 A piece is meshed by the add-on (`core.piece_mesh`: the resolution a float32 property, the file's
 mesher), as after File > Import > Sewing Pattern. A file the add-on exported is meshed alike
@@ -25,7 +24,6 @@ and bend are applied again), with a warning.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 
@@ -116,34 +114,6 @@ class ImportedGarment:
                       f"{n} vertices and {where} (mark the collider they belong to, then import again, or paint them)")
 
 
-@dataclass
-class _Part:
-    """What the manifest says of a piece beyond the module's getters."""
-
-    placement: dict | None
-    bend: dict | None
-    mesher: int
-
-
-def manifest_parts(path: str, count: int) -> list[_Part]:
-    """Each piece's placement, bend and mesher as the manifest stores them (read after the
-    module accepted the file, so its structure is already checked)."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            pieces = json.load(f)["pieces"]
-        parts = []
-        for p in pieces:
-            placement = p.get("placement") or p["source"].get("placement")
-            parts.append(_Part(placement, p.get("bend"), int(p["options"].get("mesher", 1))))
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise AddonError(f"'{path}' is not a garment manifest the add-on can read ({exc})",
-                         "Choose the .json written by File > Export > Tailor Garment or `tailor import`") from exc
-    if len(parts) != count:
-        raise AddonError(f"'{path}' lists {len(parts)} pieces where the module read {count}",
-                         "Export the garment again")
-    return parts
-
-
 def turns_up(up: str, stated: str | None) -> bool:
     """Whether the file's placed pieces are turned from Y up to Blender's Z up: as `up` says,
     or (AUTO) as the file states; a file that states nothing is taken as Y up (GarmentCode's,
@@ -194,10 +164,8 @@ def piece_bend(bend: dict | None, frame: _Frame) -> PieceBend | None:
     """A manifest bend (axis in world coordinates, after placement) as the add-on stores it."""
     if bend is None:
         return None
-    sym = bend.get("symmetry")
-    symmetry = None
-    if sym is not None:
-        symmetry = (tuple(float(c) for c in sym["point"]), tuple(float(c) for c in sym["direction"]))
+    sym = bend["symmetry"]
+    symmetry = None if sym is None else (tuple(float(c) for c in sym[0]), tuple(float(c) for c in sym[1]))
     point = frame.local_points(np.asarray([bend["axis_point"]], np.float64))[0]
     direction = frame.local_direction(np.asarray(bend["axis_direction"], np.float64))
     return PieceBend(
@@ -205,9 +173,8 @@ def piece_bend(bend: dict | None, frame: _Frame) -> PieceBend | None:
         axis_point=tuple(float(c) for c in point),
         axis_direction=tuple(float(c) for c in direction),
         symmetry=symmetry,
-        threshold=float(bend.get("threshold", 0.0)),
-        # A bend without a mode was written before the roll: the paper's rotation.
-        rolled=bend.get("mode", "rotate") == "roll",
+        threshold=float(bend["threshold"]),
+        rolled=bend["mode"] == "roll",
     )
 
 
@@ -277,7 +244,7 @@ def read_garment_file(path: str, up: str = "AUTO") -> ImportedGarment:
     `AddonError`."""
     g = tailor.Garment.load(path)
     sources = g.pieces
-    parts = manifest_parts(path, len(sources))
+    placements, bends, meshers = g.placements, g.bends, g.meshers
     setup = g.setup
     turn = turns_up(up, setup.get("up"))
     file_meshes = g.meshes()
@@ -291,17 +258,17 @@ def read_garment_file(path: str, up: str = "AUTO") -> ImportedGarment:
         if e < MIN_EDGE:
             raise AddonError(f"piece '{s.name}' is meshed at {e * 1000:.3g} mm, finer than the {MIN_EDGE * 1000:g} mm "
                              "a piece object holds", "Write the garment at a coarser resolution")
-    meshes = [piece_mesh(s.to_json(), float(np.float32(e)), part.mesher)
-              for s, e, part in zip(sources, g.edge_lengths, parts)]
+    meshes = [piece_mesh(s.to_json(), float(np.float32(e)), mesher)
+              for s, e, mesher in zip(sources, g.edge_lengths, meshers)]
     remeshed = {i for i, (m, f) in enumerate(zip(meshes, file_meshes)) if not same_mesh(m, f)}
-    unplaced = [i for i, part in enumerate(parts) if part.placement is None]
+    unplaced = [i for i, placement in enumerate(placements) if placement is None]
     beside = dict(zip(unplaced, side_by_side([np.asarray(meshes[i].rest) for i in unplaced])))
 
     pieces = []
-    for i, (source, part, mesh) in enumerate(zip(sources, parts, meshes)):
-        frame = piece_frame(part.placement, turn, beside.get(i, (0.0, 0.0, 0.0)))
-        bend = piece_bend(part.bend, frame)
-        radius = part.bend.get("radius") if part.bend else None
+    for i, (source, placement, stored, mesh) in enumerate(zip(sources, placements, bends, meshes)):
+        frame = piece_frame(placement, turn, beside.get(i, (0.0, 0.0, 0.0)))
+        bend = piece_bend(stored, frame)
+        radius = stored["radius"] if stored else None
         if radius is not None:
             warnings.append(f"piece '{source.name}' is bent to a radius of {radius:.4g} m, which the add-on does not "
                             "store: Set Resolution bends it again by its angle")
@@ -320,7 +287,7 @@ def read_garment_file(path: str, up: str = "AUTO") -> ImportedGarment:
             name=source.name,
             piece_json=source.to_json(),
             edge_length=float(np.float32(g.edge_lengths[i])),
-            mesher=part.mesher,
+            mesher=meshers[i],
             contour_length=mesh.contour_length,
             arrays=mesh_arrays(mesh, np.asarray(co, np.float32)),
             location=tuple(float(c) for c in frame.location),

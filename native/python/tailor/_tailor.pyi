@@ -373,6 +373,11 @@ class Seam:
 class Garment:
     pieces: list[Piece]
     edge_lengths: list[float]
+    #: Each piece's placement in effect (its own, else its pattern piece's), as `from_parts` takes it.
+    placements: list[dict[str, Any] | None]
+    #: Each piece's bend as `from_parts` and `set_bend` take it.
+    bends: list[dict[str, Any] | None]
+    meshers: list[int]
     seams: list[Seam]
     warnings: list[str]
     settings_json: str

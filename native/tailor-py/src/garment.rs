@@ -16,7 +16,7 @@ use tailor_core::TailorError;
 
 use crate::convert::{points2, points3};
 use crate::errors::to_py;
-use crate::patterns::{read_options, rows, Piece, PieceMesh};
+use crate::patterns::{placement_dict, read_options, rows, Piece, PieceMesh};
 use crate::seams::Seam;
 use crate::settings::{Fabric, Settings};
 use crate::weld::WeldedMesh;
@@ -198,6 +198,31 @@ impl Garment {
     #[getter]
     fn pieces(&self) -> PyResult<Vec<Piece>> {
         crate::errors::guard(|| Ok(self.inner.pieces.iter().map(|p| Piece { inner: p.source.clone() }).collect()))
+    }
+
+    /// Each piece's placement in effect (its own, else its pattern piece's) as `from_parts`
+    /// takes it (`{"translation", "rotation_deg", "flipped"}`), or None.
+    #[getter]
+    fn placements<'py>(&self, py: Python<'py>) -> PyResult<Vec<Option<Bound<'py, PyDict>>>> {
+        crate::errors::guard(|| {
+            self.inner.pieces.iter().map(|p| placement_dict(py, &p.placement_in_effect().cloned())).collect()
+        })
+    }
+
+    /// Each piece's bend as `from_parts` and `set_bend` take it (`{"axis_point",
+    /// "axis_direction", "angle_deg", "symmetry", "threshold", "radius", "mode"}`, `symmetry` =
+    /// ((x, y), (dx, dy)) or None), or None for an unbent piece.
+    #[getter]
+    fn bends<'py>(&self, py: Python<'py>) -> PyResult<Vec<Option<Bound<'py, PyDict>>>> {
+        crate::errors::guard(|| {
+            self.inner.pieces.iter().map(|p| p.bend.as_ref().map(|b| bend_dict(py, b)).transpose()).collect()
+        })
+    }
+
+    /// The mesher version of each piece's mesh (see `triangulate`).
+    #[getter]
+    fn meshers(&self) -> PyResult<Vec<u32>> {
+        crate::errors::guard(|| Ok(self.inner.pieces.iter().map(|p| p.options.mesher).collect()))
     }
 
     /// Target edge length of each piece, metres.
@@ -526,6 +551,20 @@ fn placement_from(d: &Bound<'_, PyDict>) -> PyResult<Placement> {
         rotation_deg: item(d, "rotation_deg", "placement")?.extract()?,
         flipped,
     })
+}
+
+/// A bend as `bend_from` reads it back.
+fn bend_dict<'py>(py: Python<'py>, b: &BendParams) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("axis_point", b.axis_point.to_vec())?;
+    d.set_item("axis_direction", b.axis_direction.to_vec())?;
+    d.set_item("angle_deg", b.angle_deg)?;
+    let pair = |v: [f64; 2]| (v[0], v[1]);
+    d.set_item("symmetry", b.symmetry.as_ref().map(|s| (pair(s.point), pair(s.direction))))?;
+    d.set_item("threshold", b.threshold)?;
+    d.set_item("radius", b.radius)?;
+    d.set_item("mode", b.mode.name())?;
+    Ok(d)
 }
 
 fn bend_from(d: &Bound<'_, PyDict>) -> PyResult<BendParams> {

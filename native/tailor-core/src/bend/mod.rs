@@ -58,6 +58,14 @@ impl BendMode {
         Self::Rotate
     }
 
+    /// `"roll"` or `"rotate"`: the name [`parse`](Self::parse) reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Roll => "roll",
+            Self::Rotate => "rotate",
+        }
+    }
+
     /// `"roll"` or `"rotate"`.
     pub fn parse(name: &str) -> Result<Self> {
         match name {

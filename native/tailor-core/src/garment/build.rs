@@ -83,7 +83,7 @@ pub fn solver_input(garment: &Garment, meshes: Vec<PieceMesh>, options: &BuildOp
         .iter()
         .map(|gp| {
             let mut p = gp.source.clone();
-            p.placement = gp.placement.clone().or(p.placement);
+            p.placement = gp.placement_in_effect().cloned();
             p
         })
         .collect();

@@ -24,6 +24,13 @@ pub struct GarmentPiece {
     pub bend: Option<BendParams>,
 }
 
+impl GarmentPiece {
+    /// Where the piece is placed: its own placement, else its pattern piece's.
+    pub fn placement_in_effect(&self) -> Option<&Placement> {
+        self.placement.as_ref().or(self.source.placement.as_ref())
+    }
+}
+
 /// Values of a painted per-particle parameter (paper Sec. 5: binary, integer, float).
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParticleValues {

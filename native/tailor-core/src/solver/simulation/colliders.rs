@@ -297,6 +297,7 @@ impl Simulation {
     fn substep_end_mesh_contacts(&self) -> Vec<Option<(u32, crate::collision::Contact)>> {
         let (x, x0, meshes, levels, pinned, th) =
             (&self.x, &self.x_start, &self.collide.meshes, &self.collide.levels, &self.model.pinned, self.thickness);
+        let (reuse, broad_phase, one) = (&self.collide.reuse, self.collide.skips.mesh_broad_phase, meshes.len() == 1);
         (0..x.len())
             .into_par_iter()
             .with_min_len(512)
@@ -316,6 +317,19 @@ impl Simulation {
                 }
                 if best.is_some() {
                     return best;
+                }
+                // The colliders have not moved since the iterations: the broad phase's answer
+                // (free, or the shortlist's) holds here as it did for them.
+                let r = reuse.get(i).filter(|r| {
+                    broad_phase && one && r.radius > 0.0 && p.distance_squared(Vec3::from(r.at)) < r.radius * r.radius
+                });
+                if let Some(r) = r {
+                    if r.len == 0 {
+                        return None;
+                    }
+                    if let Some(hit) = meshes[0].test_shortlist(p, &r.near[..r.len as usize], th) {
+                        return hit.map(|h| (0, h));
+                    }
                 }
                 for (c, m) in meshes.iter().enumerate() {
                     if let Some(hit) = m.contact(p, levels[i], th) {

@@ -89,6 +89,7 @@ pub fn collision_stats_dict<'py>(py: Python<'py>, c: &CollisionStats) -> PyResul
     d.set_item("mesh_contacts", c.mesh_contacts)?;
     d.set_item("self_pairs", c.self_pairs)?;
     d.set_item("self_searches", c.self_searches)?;
+    d.set_item("self_partial_searches", c.self_partial_searches)?;
     d.set_item("contact_tests", c.contact_tests)?;
     d.set_item("contact_skips", c.contact_skips)?;
     d.set_item("contact_nearest", c.contact_nearest)?;

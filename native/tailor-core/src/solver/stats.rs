@@ -77,6 +77,9 @@ pub struct CollisionStats {
     /// Hash searches of the self-collision passes (a search serves passes until a particle
     /// has moved half the search margin).
     pub self_searches: u32,
+    /// Self-collision passes that searched only the particles that had moved too far since
+    /// the last search (`self_movers.rs`).
+    pub self_partial_searches: u32,
     /// Particle-vs-mesh tests the iterations ran in full; those the broad phase skipped (a
     /// particle still free within the radius of its last test); and those it answered from the
     /// particle's shortlist of nearest candidates (`mesh_broad_phase.rs`; the name is from when

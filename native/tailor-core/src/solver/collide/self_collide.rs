@@ -26,6 +26,7 @@
 use glam::Vec3;
 
 use super::levels::levels_collide;
+use super::self_movers::{max_movers, merged, Movers};
 use crate::collision::self_collision::{ExclusionSet, SelfCollision};
 use crate::error::{Result, TailorError};
 use crate::solver::model::soa::Vec3Soa;
@@ -84,6 +85,9 @@ pub(crate) struct SelfCollide {
     x_ref: Vec3Soa,
     searched_radius: f32,
     pub searches: u32,
+    /// Passes that searched the movers alone (`self_movers.rs`), and the movers of a pass.
+    pub partial_searches: u32,
+    movers: Vec<u32>,
 }
 
 /// Search margin as a fraction of the radius (see [`SelfCollide::pass`]).
@@ -233,17 +237,17 @@ impl SelfCollide {
     /// Heap bytes of the per-particle buffers (not the pair finder).
     pub fn particle_bytes(&self) -> usize {
         use crate::solver::model::soa::vec_bytes;
-        vec_bytes(&self.delta) + vec_bytes(&self.count) + self.x_ref.memory_bytes()
+        vec_bytes(&self.delta) + vec_bytes(&self.count) + self.x_ref.memory_bytes() + vec_bytes(&self.movers)
     }
 
     /// One pass of pair corrections on `x`.
     ///
     /// The hash search is not redone every pass: it looks for pairs closer than `2r + m`
-    /// (`m = MARGIN·r`), and the list serves every later pass until some particle has moved
-    /// more than `m/2` from where it was at the search. Until then it holds every pair closer
-    /// than `2r`: a pair left out was at least `2r + m` apart and each end moved less than
-    /// `m/2`. The corrections are therefore exactly those of a search every pass (tested), at
-    /// a fraction of the cost: particles move little between iterations.
+    /// (`m = MARGIN·r`), and the list serves every later pass. A pair it lacks that is now
+    /// closer than `2r` has a particle that moved more than `m/2` since the search: while there
+    /// are few of those, their pairs alone are searched ([`self_movers`](super::self_movers)),
+    /// else everything is searched again. The corrections are exactly those of a search every
+    /// pass (tested), at a fraction of the cost: particles move little between iterations.
     pub fn pass(&mut self, inp: &PassInput<'_>, x: &mut Vec3Soa) {
         let model = inp.model;
         if self.exclusions.is_none() || self.built_seams != model.seams.len() || self.built_radius != inp.radius {
@@ -254,19 +258,45 @@ impl SelfCollide {
             self.x_ref = Vec3Soa::zeros(0);
         }
         let margin = MARGIN * inp.radius;
-        let fresh = inp.reuse && self.x_ref.len() == x.len() && self.searched_radius == inp.radius && {
+        let listed = inp.reuse && self.x_ref.len() == x.len() && self.searched_radius == inp.radius;
+        self.movers.clear();
+        let most = max_movers(x.len());
+        if listed {
             let lim2 = 0.25 * margin * margin;
-            (0..x.len()).all(|i| x.get(i).distance_squared(self.x_ref.get(i)) < lim2)
-        };
-        if !fresh {
+            for i in 0..x.len() {
+                if x.get(i).distance_squared(self.x_ref.get(i)) >= lim2 {
+                    self.movers.push(i as u32);
+                    if self.movers.len() > most {
+                        break;
+                    }
+                }
+            }
+        }
+        let mut missing = Vec::new();
+        if !listed || self.movers.len() > most {
             if !self.search(inp, x, margin) {
                 return;
             }
             self.x_ref.clone_from(x);
             self.searched_radius = inp.radius;
             self.searches += 1;
+        } else if !self.movers.is_empty() {
+            let Some(ex) = self.exclusions.as_ref() else { return };
+            let levels = inp.levels;
+            let search_radius = inp.radius + 0.5 * margin;
+            let movers = Movers {
+                x,
+                x_ref: &self.x_ref,
+                hash: self.finder.hash(),
+                movers: &self.movers,
+                two_r: 2.0 * inp.radius,
+                listed_d2: 4.0 * search_radius * search_radius,
+            };
+            missing = movers
+                .missing_pairs(|a, b| ex.contains(a, b) || !levels_collide(levels[a as usize], levels[b as usize]));
+            self.partial_searches += 1;
         }
-        self.correct(inp, x);
+        self.correct(inp, x, &missing);
     }
 
     /// Forgets the candidate list (levels changed).
@@ -296,10 +326,12 @@ impl SelfCollide {
         found
     }
 
-    fn correct(&mut self, inp: &PassInput<'_>, x: &mut Vec3Soa) {
+    /// The corrections of the listed pairs and of the `missing` ones (sorted, none listed),
+    /// in one sorted order.
+    fn correct(&mut self, inp: &PassInput<'_>, x: &mut Vec3Soa, missing: &[[u32; 2]]) {
         let model = inp.model;
         let pairs = self.finder.pairs();
-        if pairs.is_empty() {
+        if pairs.is_empty() && missing.is_empty() {
             self.last_pairs = 0;
             return;
         }
@@ -310,17 +342,18 @@ impl SelfCollide {
         self.count.resize(n, 0);
         let two_r = 2.0 * inp.radius;
         let mut overlapping = 0;
-        for &[i, j] in pairs {
+        let (delta, count) = (&mut self.delta, &mut self.count);
+        merged(pairs, missing, |[i, j]| {
             let (i, j) = (i as usize, j as usize);
             if x.get(i).distance_squared(x.get(j)) >= two_r * two_r {
-                continue;
+                return;
             }
             overlapping += 1;
             let wi = if model.pinned[i] { 0.0 } else { 1.0 / model.mass[i] };
             let wj = if model.pinned[j] { 0.0 } else { 1.0 / model.mass[j] };
             let w = wi + wj;
             if w <= 0.0 {
-                continue;
+                return;
             }
             let d = x.get(i) - x.get(j);
             let len = d.length();
@@ -338,11 +371,11 @@ impl SelfCollide {
             if lt > 0.0 {
                 corr -= if lt <= mu_s * overlap { rel_t } else { rel_t * (mu_k * overlap / lt).min(1.0) };
             }
-            self.delta[i] += corr * (wi / w);
-            self.delta[j] -= corr * (wj / w);
-            self.count[i] += 1;
-            self.count[j] += 1;
-        }
+            delta[i] += corr * (wi / w);
+            delta[j] -= corr * (wj / w);
+            count[i] += 1;
+            count[j] += 1;
+        });
         self.last_pairs = overlapping;
         for i in 0..n {
             if self.count[i] > 0 {

@@ -402,6 +402,7 @@ impl Simulation {
         c.self_state.pass(&inp, &mut self.x);
         c.stats.self_pairs = c.self_state.last_pairs;
         c.stats.self_searches += std::mem::take(&mut c.self_state.searches);
+        c.stats.self_partial_searches += std::mem::take(&mut c.self_state.partial_searches);
         c.stats.self_seconds += t0.elapsed().as_secs_f64();
     }
 

@@ -229,67 +229,6 @@ impl Simulation {
         c.stats.hash_seconds += t0.elapsed().as_secs_f64();
     }
 
-    /// The iterations' test of every particle against the mesh colliders, with a broad phase
-    /// that is exact (`mesh_broad_phase.rs`): within a substep the colliders do not move, and a
-    /// particle that stayed within the radius its last test found is free without a test, or is
-    /// tested against its shortlist of nearest candidates alone. With several mesh colliders
-    /// only the first kind applies (the least radius over them). The contacts are exactly those
-    /// of testing every candidate of every particle in every iteration. `None` for pinned or
-    /// free particles.
-    fn mesh_contacts_of_iteration(&mut self) -> Vec<Option<(u32, crate::collision::Contact)>> {
-        let (x, meshes, levels, pinned, th) =
-            (&self.x, &self.collide.meshes, &self.collide.levels, &self.model.pinned, self.thickness);
-        let broad_phase = self.collide.skips.mesh_broad_phase;
-        let one = meshes.len() == 1;
-        let mut reuse = std::mem::take(&mut self.collide.reuse);
-        reuse.resize(x.len(), Reuse::default());
-        let (skipped, nearest) = (AtomicU64::new(0), AtomicU64::new(0));
-        let found = reuse
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(512)
-            .map(|(i, r)| {
-                if pinned[i] {
-                    return None;
-                }
-                let p = x.get(i);
-                if broad_phase && r.radius > 0.0 && p.distance_squared(Vec3::from(r.at)) < r.radius * r.radius {
-                    if r.len == 0 {
-                        skipped.fetch_add(1, Relaxed);
-                        return None;
-                    }
-                    if let Some(hit) = meshes[0].test_shortlist(p, &r.near[..r.len as usize], th) {
-                        nearest.fetch_add(1, Relaxed);
-                        return hit.map(|h| (0, h));
-                    }
-                }
-                let mut best: Option<(u32, crate::collision::Contact)> = None;
-                let (mut radius, mut near) = (f32::INFINITY, Shortlist::FREE);
-                for (k, m) in meshes.iter().enumerate() {
-                    let (hit, rad, list) = m.test_for_reuse(p, levels[i], th, broad_phase);
-                    radius = radius.min(rad);
-                    if !list.is_free() {
-                        // A shortlist of one collider's triangles is a reuse for one collider only.
-                        (radius, near) = if one { (radius, list) } else { (0.0, Shortlist::FREE) };
-                    }
-                    if let Some(hit) = hit {
-                        if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
-                            best = Some((k as u32, hit));
-                        }
-                    }
-                }
-                *r = Reuse { at: p.into(), radius: radius - rounding_margin(p), near: near.near, len: near.len };
-                best
-            })
-            .collect();
-        self.collide.reuse = reuse;
-        let (skipped, nearest) = (skipped.into_inner(), nearest.into_inner());
-        self.collide.stats.contact_skips += skipped;
-        self.collide.stats.contact_nearest += nearest;
-        self.collide.stats.contact_tests += x.len() as u64 - skipped - nearest;
-        found
-    }
-
     /// The deepest mesh contact of every particle at the end of the substep:
     /// `(collider, contact)`, `None` for pinned or free particles. A particle whose motion
     /// since the substep's start passed through the front of a triangle gets that contact
@@ -344,35 +283,69 @@ impl Simulation {
     }
 
     /// In the local step, after the analytic colliders: mesh contacts into the `ContactSet`
-    /// (an analytic contact already found for a particle is kept).
+    /// (an analytic contact already found for a particle is kept), each particle tested by
+    /// [`iteration_contact`] and its contact written in the same parallel loop (collecting
+    /// the contacts first and writing them after on one thread cost a large share of the
+    /// stage: a 64-byte answer a particle, every iteration).
     pub(crate) fn detect_mesh_contacts(&mut self) {
         if self.collide.meshes.is_empty() {
             return;
         }
         let t0 = Instant::now();
-        let found = self.mesh_contacts_of_iteration();
-        for (i, hit) in found.into_iter().enumerate() {
-            let cs = &mut self.contacts;
-            let analytic = cs.weight[i] > 0.0 && cs.collider[i] & MESH_CONTACT == 0;
-            if analytic {
-                continue;
-            }
-            match hit {
-                Some((c, h)) => {
-                    cs.weight[i] = CONTACT_WEIGHT_FACTOR * self.diag[i];
-                    cs.target.set(i, h.target);
-                    cs.normal.set(i, h.normal);
-                    cs.collider[i] = MESH_CONTACT | c;
-                    self.collide.contact_tri[i] = h.triangle;
-                    self.collide.contact_bary[i] = h.bary;
+        let (x, diag, pinned, th) = (&self.x, &self.diag, &self.model.pinned, self.thickness);
+        let c = &mut self.collide;
+        let test = IterationTest {
+            meshes: &c.meshes,
+            one: c.meshes.len() == 1,
+            broad_phase: c.skips.mesh_broad_phase,
+            thickness: th,
+            skipped: AtomicU64::new(0),
+            listed: AtomicU64::new(0),
+        };
+        c.reuse.resize(x.len(), Reuse::default());
+        let cs = &mut self.contacts;
+        let (target, normal) = (&mut cs.target, &mut cs.normal);
+        (
+            c.reuse.par_iter_mut(),
+            cs.weight.par_iter_mut(),
+            cs.collider.par_iter_mut(),
+            target.x.par_iter_mut(),
+            target.y.par_iter_mut(),
+            target.z.par_iter_mut(),
+            normal.x.par_iter_mut(),
+            normal.y.par_iter_mut(),
+            normal.z.par_iter_mut(),
+            c.contact_tri.par_iter_mut(),
+            c.contact_bary.par_iter_mut(),
+        )
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(512)
+            .for_each(|(i, (r, w, col, tx, ty, tz, nx, ny, nz, tri, bary))| {
+                let hit = if pinned[i] { None } else { test.contact(x.get(i), c.levels[i], r) };
+                // An analytic contact found for this particle is kept.
+                if *w > 0.0 && *col & MESH_CONTACT == 0 {
+                    return;
                 }
-                None => {
-                    cs.weight[i] = 0.0;
-                    cs.collider[i] = u32::MAX;
+                match hit {
+                    Some((k, h)) => {
+                        *w = CONTACT_WEIGHT_FACTOR * diag[i];
+                        (*tx, *ty, *tz) = (h.target.x, h.target.y, h.target.z);
+                        (*nx, *ny, *nz) = (h.normal.x, h.normal.y, h.normal.z);
+                        *col = MESH_CONTACT | k;
+                        (*tri, *bary) = (h.triangle, h.bary);
+                    }
+                    None => {
+                        *w = 0.0;
+                        *col = u32::MAX;
+                    }
                 }
-            }
-        }
-        self.collide.stats.contact_seconds += t0.elapsed().as_secs_f64();
+            });
+        let (skipped, listed) = (test.skipped.into_inner(), test.listed.into_inner());
+        c.stats.contact_skips += skipped;
+        c.stats.contact_nearest += listed;
+        c.stats.contact_tests += x.len() as u64 - skipped - listed;
+        c.stats.contact_seconds += t0.elapsed().as_secs_f64();
     }
 
     /// After each iteration's global step: the self-collision pass.
@@ -526,5 +499,56 @@ impl Simulation {
         for i in back {
             self.x.set(i as usize, self.x_start.get(i as usize));
         }
+    }
+}
+
+/// The iterations' test of a particle against the mesh colliders, with a broad phase that is
+/// exact (`mesh_broad_phase.rs`): within a substep the colliders do not move, and a particle
+/// that stayed within the radius its last test found is free without a test, or is tested
+/// against its shortlist of nearest candidates alone. With several mesh colliders only the
+/// first kind applies (the least radius over them). The contacts are exactly those of testing
+/// every candidate of every particle in every iteration.
+struct IterationTest<'a> {
+    meshes: &'a [MeshCollider],
+    one: bool,
+    broad_phase: bool,
+    thickness: f32,
+    /// Tests skipped (free within the radius) and answered from a shortlist.
+    skipped: AtomicU64,
+    listed: AtomicU64,
+}
+
+impl IterationTest<'_> {
+    /// The deepest contact of the particle at `p` (level `level`), `None` if free; `r` is what
+    /// its last test in this substep left, updated by a full test.
+    fn contact(&self, p: Vec3, level: i32, r: &mut Reuse) -> Option<(u32, crate::collision::Contact)> {
+        let th = self.thickness;
+        if self.broad_phase && r.radius > 0.0 && p.distance_squared(Vec3::from(r.at)) < r.radius * r.radius {
+            if r.len == 0 {
+                self.skipped.fetch_add(1, Relaxed);
+                return None;
+            }
+            if let Some(hit) = self.meshes[0].test_shortlist(p, &r.near[..r.len as usize], th) {
+                self.listed.fetch_add(1, Relaxed);
+                return hit.map(|h| (0, h));
+            }
+        }
+        let mut best: Option<(u32, crate::collision::Contact)> = None;
+        let (mut radius, mut near) = (f32::INFINITY, Shortlist::FREE);
+        for (k, m) in self.meshes.iter().enumerate() {
+            let (hit, rad, list) = m.test_for_reuse(p, level, th, self.broad_phase);
+            radius = radius.min(rad);
+            if !list.is_free() {
+                // A shortlist of one collider's triangles is a reuse for one collider only.
+                (radius, near) = if self.one { (radius, list) } else { (0.0, Shortlist::FREE) };
+            }
+            if let Some(hit) = hit {
+                if best.as_ref().is_none_or(|(_, b)| hit.depth > b.depth) {
+                    best = Some((k as u32, hit));
+                }
+            }
+        }
+        *r = Reuse { at: p.into(), radius: radius - rounding_margin(p), near: near.near, len: near.len };
+        best
     }
 }

@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
+.PHONY: bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon addon-studio bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -45,6 +45,14 @@ addon: $(ADDON_ZIP)
 
 $(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
 	$(PY) addon/build_addon.py -o $@
+
+## The extension for studio Linux: wheels against glibc 2.28 (Rocky/Alma Linux 8) for x86-64
+## and arm64, built with maturin --zig (zig from PyPI's ziglang), each checked for newer glibc
+## symbols: dist/tailor_addon_studio.zip.
+addon-studio: $(STAMP)
+	$(PY) -m pip install --quiet ziglang
+	rustup target add aarch64-unknown-linux-gnu
+	$(PY) addon/build_addon.py --compat manylinux_2_28 --arch x86_64,aarch64 -o dist/tailor_addon_studio.zip
 
 ## Assembly on patterns nobody tuned: random GarmentCode designs (../shared/tools/garmentcode)
 ## imported and simulated with default settings, judged by `tailor simulate`'s own checks;

@@ -261,3 +261,19 @@ def test_batch_local_then_cluster_with_a_killed_node(tmp_path, cluster):
     # After the kill, the jobs finished on the head node.
     assert all(e["node"] != victim_id for e in done[killed_after + 1:])
     assert caches(out) == caches(ref)
+
+
+def test_without_ray_one_line(tmp_path):
+    """Ray is not a dependency of the package: without it, a batch with work to do says so in one
+    line (exit 2), no traceback."""
+    jobs = write_jobs(tmp_path, broken=False)
+    code = ("import sys; sys.modules['ray'] = None; from tailor import cli; "
+            f"sys.exit(cli.main(['batch', {str(jobs)!r}, '--out', {str(tmp_path / 'out')!r}]))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env())
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip() == "tailor batch: error: tailor batch needs Ray: pip install ray"
+    # And importing the package, the command line or the batch's modules imports no Ray.
+    code = ("import sys; import tailor, tailor.cli, tailor.batch.jobs, tailor.batch.execute, tailor.batch.runner; "
+            "tailor.cli.build_parser(); print('ray' in sys.modules)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env())
+    assert r.stdout.strip() == "False", r.stderr

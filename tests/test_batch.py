@@ -277,3 +277,39 @@ def test_without_ray_one_line(tmp_path):
             "tailor.cli.build_parser(); print('ray' in sys.modules)")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env())
     assert r.stdout.strip() == "False", r.stderr
+
+
+def test_killed_batch_resumes_where_it_stopped(tmp_path):
+    """The command itself killed (SIGKILL to it and its local Ray) after two jobs finished: the
+    next run submits only the jobs not done, and every cache is the one of an uninterrupted batch."""
+    jobs = write_jobs(tmp_path, broken=False)
+    out = tmp_path / "out"
+    p = subprocess.Popen([sys.executable, "-m", "tailor", "batch", str(jobs), "--out", str(out), "--cpus", "2"],
+                         env=env(), text=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                         start_new_session=True)
+    try:
+        deadline = time.time() + 120
+        while sum(e["event"] == "done" for e in events(out)) < 2:
+            assert p.poll() is None, p.stderr.read()
+            assert time.time() < deadline
+            time.sleep(0.05)
+    finally:
+        kill_session(p.pid)
+        p.wait()
+    first = {e["job"] for e in events(out) if e["event"] == "done"}
+    assert 2 <= len(first) < 8
+    before = len(events(out))
+    r = batch(jobs, "--out", out, "--cpus", "2")
+    assert r.returncode == 0, r.stdout + r.stderr
+    rerun = events(out)[before:]
+    # The finished jobs were skipped; a job whose files were cut short by the kill has no marker
+    # and runs again.
+    assert {e["job"] for e in rerun if e["event"] == "skip"} == first
+    assert {e["job"] for e in rerun if e["event"] == "submit"} == set(NAMES) - first
+    assert sorted(e["job"] for e in rerun if e["event"] == "done") == sorted(set(NAMES) - first)
+    assert r.stdout.count(" *") == len(first)
+    # The same caches as an uninterrupted batch of the same jobs.
+    again = tmp_path / "again"
+    r = batch(jobs, "--out", again, "--cpus", "2")
+    assert r.returncode == 0
+    assert caches(out) == caches(again)

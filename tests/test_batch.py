@@ -313,3 +313,35 @@ def test_killed_batch_resumes_where_it_stopped(tmp_path):
     r = batch(jobs, "--out", again, "--cpus", "2")
     assert r.returncode == 0
     assert caches(out) == caches(again)
+
+
+def test_pattern_job_is_import_then_simulate(tmp_path):
+    """A pattern job (GarmentCode here) runs `tailor import` then `tailor simulate` on its garment,
+    as the two commands would (the function a Ray task calls, run here without Ray)."""
+    from tailor.batch import jobs as joblib
+    from tailor.batch.execute import execute
+
+    pattern = ROOT / "native/tailor-core/tests/data/garmentcode/dress_pencil_specification.json"
+    (tmp_path / "jobs.json").write_text(json.dumps({"settings": {**SETTINGS, "frames": 3}, "jobs": [
+        {"name": "dress", "pattern": str(pattern), "import": {"edge": 0.05}, "collider": str(SAMPLES / "character.glb"),
+         "outputs": ["cache", "garment", "obj"]}]}))
+    [job] = joblib.load(tmp_path / "jobs.json")
+    files = joblib.inputs(job)
+    result = execute(job, [(r, os.path.basename(p)) for r, p in files], [Path(p).read_bytes() for _, p in files], 1)
+    assert result["ok"], result
+    stem = pattern.stem
+    assert {f"garment/{stem}.json", f"garment/{stem}.bin", "garment.pc2", "report.json", "simulate.log",
+            f"obj/{stem}.0003.obj"} <= set(result["files"])
+    assert str(tmp_path) not in result["files"]["simulate.log"].decode() and "tailor-batch-" not in \
+        result["files"]["simulate.log"].decode()
+
+    def cli(*args):
+        r = subprocess.run([sys.executable, "-m", "tailor", *map(str, args)], env=env(), capture_output=True, text=True)
+        assert r.returncode in (0, 3), r.stderr
+
+    cli("import", pattern, "--edge", "0.05", "-o", tmp_path / f"{stem}.json")
+    cli("simulate", tmp_path / f"{stem}.json", "--collider", SAMPLES / "character.glb", "--frames", 3, "--preset",
+        "preview", "--preroll", 0, "--transition", 0, "--report", tmp_path / "r.json", "-o", tmp_path / "c.pc2",
+        "--threads", 1)
+    assert (tmp_path / "c.pc2").read_bytes() == result["files"]["garment.pc2"]
+    assert (tmp_path / f"{stem}.bin").read_bytes() == result["files"][f"garment/{stem}.bin"]

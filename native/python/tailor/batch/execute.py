@@ -73,7 +73,11 @@ def execute(job: dict, names: list[tuple[str, str]], blobs: list[bytes], threads
                         and "garment" not in job["outputs"]:
                     continue  # the imported garment was only a step, not an output asked for
                 files[rel] = p.read_bytes()
-    files[joblib.LOG] = log.getvalue().encode()
+    # The log names the job's files by their names in its folder, not the private folder's.
+    text = log.getvalue().replace(str(out) + os.sep, "")
+    for path in paths.values():
+        text = text.replace(path, os.path.basename(path))
+    files[joblib.LOG] = text.encode()
     return {"ok": True, "exit": status, "files": files, "seconds": time.time() - started, **where}
 
 

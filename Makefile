@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon addon-studio bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
+.PHONY: bench-batch bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon addon-studio bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -72,6 +72,11 @@ fuzz: develop
 ## Benchmarks (print figures; not part of the tests).
 bench: develop
 	cargo bench -p tailor-core --bench solver
+
+## tailor batch against the same jobs run one after the other with tailor simulate: jobs per hour and
+## the overhead per job (docs/batch.md, "Throughput"). BATCH_ARGS, e.g. --repeat 8 --frames 60.
+bench-batch: develop
+	$(PY) bench/batch/run.py $(BATCH_ARGS)
 
 ## Add-on level (bpy wheel): the sample garments on the walking character, Tailor's Live fps and
 ## Bake s/frame against Blender's Cloth with sewing springs, with the quality of both

@@ -1,5 +1,5 @@
 """The ``tailor`` command line. Each sub-command lives in its own module under ``tailor.commands``
-(``import``, ``info``, ``simulate``). The demo of ``make demo`` is not one of them: it lives in the
+(``import``, ``info``, ``simulate``, ``batch``). The demo of ``make demo`` is not one of them: it lives in the
 source tree's ``demo/`` folder, outside the package that ships in the add-on.
 
 Every error ends the same way: one line on standard error, ``tailor COMMAND: error: ...``, and
@@ -29,11 +29,12 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="tailor", description="Tailor garment tools (headless).")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    from tailor.commands import import_, info, simulate
+    from tailor.commands import batch, import_, info, simulate
 
     import_.register(sub)
     info.register(sub)
     simulate.register(sub)
+    batch.register(sub)
     return parser
 
 

@@ -33,9 +33,14 @@ use super::mesh_collider::MeshCollider;
 use crate::collision::geometry::{
     closest_point_on_triangle, nearest_feature_contact_or_clearance, on_shared_feature, Contact, SHARED_FEATURE,
 };
+use crate::collision::hash::Cell;
 
 /// Candidates of a cell gathered on the stack for one test (more: read from the table).
 const GATHERED: usize = 64;
+
+/// Candidates whose corners and normals a test reads once and keeps on the stack (more: read
+/// again in each pass).
+const CACHED: usize = 16;
 
 /// Candidates a particle's shortlist holds at most: more gives larger radii and dearer tests.
 pub(crate) const SHORTLIST: usize = 4;
@@ -103,6 +108,21 @@ impl MeshCollider {
             }
         }
         let gathered = &gathered[..count.min(GATHERED)];
+        if count <= CACHED {
+            // Few candidates (most cells): their corners and normals read once, for every pass
+            // of the rule and the shortlist (each read is three scattered vertex loads).
+            let mut geo = [(0u32, 0u32, [Vec3::ZERO; 3], Vec3::ZERO); CACHED];
+            let mut m = 0;
+            for &k in gathered {
+                let n = self.normals[k as usize];
+                if n != Vec3::ZERO {
+                    geo[m] = (k, self.kept[k as usize], self.corners(k), n);
+                    m += 1;
+                }
+            }
+            let geo = &geo[..m];
+            return self.decide(p, cell, thickness, reuse, || geo.iter().copied());
+        }
         let overflow = count > GATHERED;
         let cands = || {
             let table = overflow.then(|| {
@@ -112,12 +132,31 @@ impl MeshCollider {
             });
             gathered.iter().copied().take(if overflow { 0 } else { count }).chain(table.into_iter().flatten())
         };
-        let answer = nearest_feature_contact_or_clearance(p, thickness, || {
+        self.decide(p, cell, thickness, reuse, || {
             cands().filter_map(|k| {
                 let n = self.normals[k as usize];
-                (n != Vec3::ZERO).then(|| (self.kept[k as usize], self.corners(k), n))
+                (n != Vec3::ZERO).then(|| (k, self.kept[k as usize], self.corners(k), n))
             })
-        });
+        })
+    }
+
+    /// The rule over `cands` (`(kept index, triangle, corners, unit normal)`, degenerate ones
+    /// left out; called up to four times, the same sequence each time) at `p` in `cell`, and
+    /// with `reuse` the radius and shortlist (see [`test_for_reuse`](Self::test_for_reuse)).
+    #[inline]
+    fn decide<F, I>(
+        &self,
+        p: Vec3,
+        cell: Cell,
+        thickness: f32,
+        reuse: bool,
+        cands: F,
+    ) -> (Option<Contact>, f32, Shortlist)
+    where
+        F: Fn() -> I,
+        I: Iterator<Item = (u32, u32, [Vec3; 3], Vec3)>,
+    {
+        let answer = nearest_feature_contact_or_clearance(p, thickness, || cands().map(|(_, t, c, n)| (t, c, n)));
         if !reuse {
             return (answer.ok().flatten(), 0.0, Shortlist::FREE);
         }
@@ -133,12 +172,7 @@ impl MeshCollider {
         // cannot enter, and its closest point is not computed.
         let margin = rounding_margin(p);
         let mut best = [(f32::INFINITY, 0u32); SHORTLIST + 1];
-        for k in cands() {
-            let n = self.normals[k as usize];
-            if n == Vec3::ZERO {
-                continue;
-            }
-            let [a, b, c] = self.corners(k);
+        for (k, _, [a, b, c], n) in cands() {
             if (p - a).dot(n).abs() > best[SHORTLIST].0 + margin {
                 continue;
             }

@@ -291,7 +291,7 @@ mod tests {
         }
         let mut m = MeshCollider::new(&v, &t, MeshColliderOptions::default()).unwrap();
         let all = (Vec3::splat(-10.0), Vec3::splat(10.0));
-        m.prepare(&[1.0], all, all, true, false);
+        m.prepare(&[1.0], all, all, true, false, None);
         let th = 0.003;
         let mut rng = Rng::new(7);
         let (mut free, mut listed, mut fallbacks, mut longer) = (0, 0, 0, 0);
@@ -359,7 +359,7 @@ mod tests {
             let opts = MeshColliderOptions { cell_size: cell, ..MeshColliderOptions::default() };
             let mut m = MeshCollider::new(&v, &t, opts).unwrap();
             let all = (Vec3::splat(-10.0), Vec3::splat(10.0));
-            m.prepare(&[1.0], all, all, true, false);
+            m.prepare(&[1.0], all, all, true, false, None);
             let mut rng = Rng::new(5);
             let (mut crowded, mut hits) = (0, 0);
             for _ in 0..3000 {

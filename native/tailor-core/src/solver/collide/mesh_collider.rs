@@ -19,6 +19,7 @@ use glam::Vec3;
 
 use super::collider_filing::{file_triangle, MAX_STATES, PAD};
 use super::levels::{levels_collide, triangle_levels_from_vertices};
+use super::occupancy::{ClothMotion, Occupancy};
 use crate::collision::collider_hash::InsertionRule;
 use crate::collision::geometry::{closest_point_on_triangle, triangle_normal, Contact};
 use crate::collision::hash::{cell_of, segment_cells, SpatialHash};
@@ -86,6 +87,8 @@ pub(crate) struct MeshCollider {
     pub(super) normals: Vec<Vec3>,
     /// Cloth box the hash was culled for (`None` = no valid hash).
     built_for: Option<(Vec3, Vec3)>,
+    /// Where the cloth could reach when the hash was filed round each particle's motion.
+    occupancy: Option<Occupancy>,
     /// The frame fractions a moving collider's hash was filed for (bit `j` of an entry's mask:
     /// `states[j]`); empty for a still collider's (one state, every bit).
     states: Vec<f32>,
@@ -179,6 +182,7 @@ impl MeshCollider {
             kept: Vec::new(),
             normals: Vec::new(),
             built_for: None,
+            occupancy: None,
             states: Vec::new(),
             bit: u32::MAX,
         })
@@ -275,6 +279,7 @@ impl MeshCollider {
         reach: (Vec3, Vec3),
         force: bool,
         cull: bool,
+        motion: Option<&ClothMotion<'_>>,
     ) -> PrepareOutcome {
         let alpha = alphas.first().copied().unwrap_or(1.0);
         if self.moving {
@@ -291,6 +296,12 @@ impl MeshCollider {
                 // The hash was culled for `built ⊕ 2l`; valid while the cloth stays within `built ⊕ l`.
                 Some((lo, hi)) => !cull || (cloth.0.cmpge(lo - l).all() && cloth.1.cmple(hi + l).all()),
                 None => false,
+            }
+            // Filed round each particle's motion: valid while each stays within `l` of it.
+            && match (&self.occupancy, motion) {
+                (Some(occ), Some(m)) => occ.covers(m, l),
+                (Some(_), None) => false,
+                (None, _) => true,
             };
         if reusable {
             if self.moving {
@@ -318,6 +329,12 @@ impl MeshCollider {
         };
         let count = states.len().max(1);
         let (lo, hi) = (culled_for.0 - 2.0 * l, culled_for.1 + 2.0 * l);
+        // A moving collider filed for the frame: round each particle's motion, not the whole
+        // cloth's box (`occupancy.rs`).
+        let occupancy = match motion {
+            Some(m) if self.moving && cull && !force && count > 1 => Occupancy::new(m, 2.5 * l, 2.0 * l),
+            _ => None,
+        };
         self.kept.clear();
         for (t, tri) in self.tris.iter().enumerate() {
             if cull {
@@ -334,7 +351,7 @@ impl MeshCollider {
                 };
                 let (tlo, thi) = (p[0].0.min(p[1].0).min(p[2].0), p[0].1.max(p[1].1).max(p[2].1));
                 let far = tlo.cmpgt(hi).any() || thi.cmplt(lo).any();
-                if far {
+                if far || occupancy.as_ref().is_some_and(|o| !o.touches(tlo, thi)) {
                     continue;
                 }
             }
@@ -357,6 +374,7 @@ impl MeshCollider {
         self.bit = if self.moving { 1 } else { u32::MAX };
         self.update_normals();
         self.built_for = Some(culled_for);
+        self.occupancy = occupancy;
         PrepareOutcome { rebuilt: true, kept: self.kept.len(), culled: self.tris.len() - self.kept.len() }
     }
 

@@ -20,6 +20,7 @@ pub mod contacts;
 pub mod levels;
 pub(crate) mod mesh_broad_phase;
 pub(crate) mod mesh_collider;
+pub(crate) mod occupancy;
 pub(crate) mod self_collide;
 pub(crate) mod self_movers;
 pub(crate) mod shape_check;

@@ -30,6 +30,7 @@ use crate::solver::collide::contacts::CONTACT_WEIGHT_FACTOR;
 use crate::solver::collide::levels;
 use crate::solver::collide::mesh_broad_phase::{rounding_margin, Reuse, Shortlist};
 use crate::solver::collide::mesh_collider::MeshCollider;
+use crate::solver::collide::occupancy::ClothMotion;
 use crate::solver::collide::self_collide::PassInput;
 use crate::solver::collide::{ColliderId, CollisionSkips, MeshColliderOptions, SelfCollisionSettings, MESH_CONTACT};
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
@@ -212,8 +213,16 @@ impl Simulation {
         let reach = if moving { reach_of(&self.x_start, &self.y, c.alphas_left.len() as f32) } else { cloth };
         let skips = c.skips;
         let (mut kept, mut culled) = (0, 0);
+        let motion = ClothMotion { x_start: &self.x_start, y: &self.y, steps: c.alphas_left.len() as f32 };
         for m in &mut c.meshes {
-            let out = m.prepare(&c.alphas_left, cloth, reach, !skips.reuse_collider_hashes, skips.cull_far_triangles);
+            let out = m.prepare(
+                &c.alphas_left,
+                cloth,
+                reach,
+                !skips.reuse_collider_hashes,
+                skips.cull_far_triangles,
+                Some(&motion),
+            );
             if out.rebuilt {
                 c.stats.rebuilds += 1;
             } else {

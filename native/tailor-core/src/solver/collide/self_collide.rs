@@ -90,8 +90,11 @@ pub(crate) struct SelfCollide {
     movers: Vec<u32>,
 }
 
-/// Search margin as a fraction of the radius (see [`SelfCollide::pass`]).
-const MARGIN: f32 = 0.5;
+/// Search margin as a fraction of the radius (see [`SelfCollide::pass`]). A wider margin lists
+/// more pairs but searches everything less often: a substep's prediction moves every particle
+/// of a walking garment about a millimetre, past half of a margin of `r/2`. Measured on the
+/// layered outfit's walk: 0.5 -> 117 ms of self-collision a frame, 1.0 -> 93, 1.5 -> 111.
+const MARGIN: f32 = 1.0;
 
 /// Below this many particles the pair search runs on one thread: its half-dozen parallel
 /// phases cost more in thread wake-ups than the work (measured: a 369-particle strip spent

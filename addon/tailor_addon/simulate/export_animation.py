@@ -27,8 +27,8 @@ from ..reporting import reports_errors
 from . import job as bake_job
 from .export_welded import (
     alone_selected,
-    default_filepath,
     garment_positions,
+    invoke_exporter,
     output_path,
     remove_object,
     removed_on_failure,
@@ -103,12 +103,7 @@ class TAILOR_OT_export_animation(bpy.types.Operator):
     filter_glob: StringProperty(default="*.abc;*.usdc;*.usd", options={"HIDDEN"})
 
     def invoke(self, context, event):
-        if self.export_format == "NONE":
-            return self.execute(context)
-        if not self.filepath:
-            self.filepath = default_filepath("garment", EXTENSIONS[self.export_format])
-        context.window_manager.fileselect_add(self)
-        return {"RUNNING_MODAL"}
+        return invoke_exporter(self, context, "garment", EXTENSIONS)
 
     @reports_errors("Exporting the garment animation")
     def execute(self, context):

@@ -168,6 +168,17 @@ def default_filepath(suffix: str, ext: str) -> str:
     return f"{stem}_{suffix}{ext}"
 
 
+def invoke_exporter(op, context, suffix: str, extensions: dict[str, str]):
+    """An export operator's `invoke`: straight to `execute` without a file (`NONE`), else the
+    file browser, opened on `default_filepath(suffix, ...)` when no path is set."""
+    if op.export_format == "NONE":
+        return op.execute(context)
+    if not op.filepath:
+        op.filepath = default_filepath(suffix, extensions[op.export_format])
+    context.window_manager.fileselect_add(op)
+    return {"RUNNING_MODAL"}
+
+
 def output_path(filepath: str, ext: str, none_choice: str) -> str:
     """The file an exporter writes: `filepath` made absolute with `ext`, in an existing folder."""
     if not filepath:
@@ -229,12 +240,7 @@ class TAILOR_OT_export_welded(bpy.types.Operator):
     filter_glob: StringProperty(default="*.obj;*.glb", options={"HIDDEN"})
 
     def invoke(self, context, event):
-        if self.export_format == "NONE":
-            return self.execute(context)
-        if not self.filepath:
-            self.filepath = default_filepath("welded", EXTENSIONS[self.export_format])
-        context.window_manager.fileselect_add(self)
-        return {"RUNNING_MODAL"}
+        return invoke_exporter(self, context, "welded", EXTENSIONS)
 
     @reports_errors("Exporting the welded garment")
     def execute(self, context):

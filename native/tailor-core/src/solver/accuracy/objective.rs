@@ -34,7 +34,7 @@ impl Simulation {
         let t = &m.triangles;
         for k in 0..t.len() {
             let v = t.verts[k];
-            let xs = [x.get(v[0] as usize), x.get(v[1] as usize), x.get(v[2] as usize)];
+            let xs = [0, 1, 2].map(|j| x.get(v[j] as usize).into());
             e += triangle::energy(&t.g[k], xs, t.w_stretch[k], t.w_shear[k]);
         }
         for set in [&m.bending, &m.seam_pairs, &m.seam_hinges] {

@@ -3,7 +3,7 @@
 //! each constraint writes only its own slots. Slots are `Vec3A` (16 bytes) so that the global
 //! sweep gathers each with one aligned load.
 
-use glam::{Vec3, Vec3A};
+use glam::{Vec3A, Vec4};
 use rayon::prelude::*;
 
 use crate::solver::model::constraints::{stencil, triangle};
@@ -24,17 +24,27 @@ pub(crate) fn project_all(model: &Model, x: &Vec3Soa, slots: &mut [Vec3A]) {
     let (xx, xy, xz) = (&x.x[..n], &x.y[..n], &x.z[..n]);
     let get = |i: u32| {
         let i = i as usize;
-        Vec3::new(xx[i], xy[i], xz[i])
+        Vec3A::new(xx[i], xy[i], xz[i])
     };
     tri_slots.par_chunks_mut(3 * TRI_BLOCK).enumerate().for_each(|(b, out)| {
         let r = b * TRI_BLOCK..b * TRI_BLOCK + out.len() / 3;
-        let rows =
-            tris.verts[r.clone()].iter().zip(&tris.g[r.clone()]).zip(&tris.w_stretch[r.clone()]).zip(&tris.w_shear[r]);
-        for (out, (((v, g), &ws), &wsh)) in out.chunks_exact_mut(3).zip(rows) {
-            let c = triangle::rhs_contributions(g, [get(v[0]), get(v[1]), get(v[2])], ws, wsh);
-            for (o, c) in out.iter_mut().zip(c) {
-                *o = c.into();
+        let (verts, g, ws, wsh) =
+            (&tris.verts[r.clone()], &tris.g[r.clone()], &tris.w_stretch[r.clone()], &tris.w_shear[r]);
+        // Four triangles a pass, one a lane (`rhs_contributions_x4`); the block's last few alone.
+        let quads = verts.len() / 4;
+        for (q, out) in out[..12 * quads].chunks_exact_mut(12).enumerate() {
+            let t = 4 * q;
+            let lanes = |f: &dyn Fn(usize) -> f32| Vec4::new(f(t), f(t + 1), f(t + 2), f(t + 3));
+            let x = [0, 1, 2].map(|k| [xx, xy, xz].map(|axis| lanes(&|i| axis[verts[i][k] as usize])));
+            let gl = [0, 1, 2].map(|k| [0, 1].map(|j| lanes(&|i| g[i][k][j])));
+            let c = triangle::rhs_contributions_x4(&gl, &x, lanes(&|i| ws[i]), lanes(&|i| wsh[i]));
+            for (o, c) in out.chunks_exact_mut(3).zip(c) {
+                o.copy_from_slice(&c);
             }
+        }
+        for (t, out) in (4 * quads..verts.len()).zip(out[12 * quads..].chunks_exact_mut(3)) {
+            let v = verts[t];
+            out.copy_from_slice(&triangle::rhs_contributions(&g[t], [get(v[0]), get(v[1]), get(v[2])], ws[t], wsh[t]));
         }
     });
     let layout = &model.slots;

@@ -13,8 +13,13 @@
 //!   `s = ‖c₁‖²+‖c₂‖²`; the root with `|λ| ≤ 1` is `λ = 2d / (s + √(s²−4d²))`.
 //!
 //! Both use the same `A`, so the system matrix gets `(k_s + k_sh)·A · G Gᵀ` per triangle.
+//!
+//! [`rhs_contributions_x4`] runs four triangles at once, one a lane: the projection is a chain
+//! of dependent square roots and divisions (about 60 cycles of latency a triangle, measured as
+//! the local step's hot spots), which four lanes pay once for four triangles. Each lane does the
+//! scalar kernel's operations in the same order, so its results are bit for bit the same.
 
-use glam::Vec3;
+use glam::{BVec4A, Mat4, Vec3A, Vec4};
 
 /// The triangles' strain constraints, structure of arrays.
 #[derive(Debug, Clone, Default)]
@@ -73,18 +78,18 @@ pub fn strain_coefficients(r0: [f64; 2], r1: [f64; 2], r2: [f64; 2]) -> Option<[
 
 /// The columns `c₁, c₂` of F.
 #[inline(always)]
-pub fn columns(g: &[[f32; 2]; 3], x: [Vec3; 3]) -> [Vec3; 2] {
+pub fn columns(g: &[[f32; 2]; 3], x: [Vec3A; 3]) -> [Vec3A; 2] {
     [x[0] * g[0][0] + x[1] * g[1][0] + x[2] * g[2][0], x[0] * g[0][1] + x[1] * g[1][1] + x[2] * g[2][1]]
 }
 
 /// Stretch projection: each column to unit length.
 #[inline(always)]
-pub fn project_stretch(c: [Vec3; 2]) -> [Vec3; 2] {
+pub fn project_stretch(c: [Vec3A; 2]) -> [Vec3A; 2] {
     [unit_or_same(c[0]), unit_or_same(c[1])]
 }
 
 #[inline(always)]
-fn unit_or_same(c: Vec3) -> Vec3 {
+fn unit_or_same(c: Vec3A) -> Vec3A {
     let l = c.length();
     if l > 1e-12 {
         c / l
@@ -95,7 +100,7 @@ fn unit_or_same(c: Vec3) -> Vec3 {
 
 /// Shear projection: the closest pair of orthogonal vectors (see the module doc).
 #[inline(always)]
-pub fn project_shear(c: [Vec3; 2]) -> [Vec3; 2] {
+pub fn project_shear(c: [Vec3A; 2]) -> [Vec3A; 2] {
     let d = c[0].dot(c[1]);
     let s = c[0].length_squared() + c[1].length_squared();
     let disc = (s * s - 4.0 * d * d).max(0.0);
@@ -112,7 +117,7 @@ pub fn project_shear(c: [Vec3; 2]) -> [Vec3; 2] {
 /// Local step of one triangle: the right-hand-side contributions `Σⱼ g[k][j]·qⱼ` for its three
 /// vertices, where `qⱼ = w_s·p_stretchⱼ + w_sh·p_shearⱼ`.
 #[inline(always)]
-pub fn rhs_contributions(g: &[[f32; 2]; 3], x: [Vec3; 3], ws: f32, wsh: f32) -> [Vec3; 3] {
+pub fn rhs_contributions(g: &[[f32; 2]; 3], x: [Vec3A; 3], ws: f32, wsh: f32) -> [Vec3A; 3] {
     let c = columns(g, x);
     let ps = project_stretch(c);
     let ph = project_shear(c);
@@ -120,8 +125,66 @@ pub fn rhs_contributions(g: &[[f32; 2]; 3], x: [Vec3; 3], ws: f32, wsh: f32) -> 
     [q[0] * g[0][0] + q[1] * g[0][1], q[0] * g[1][0] + q[1] * g[1][1], q[0] * g[2][0] + q[1] * g[2][1]]
 }
 
+/// Four triangles' local step, triangle `i` in lane `i` of every `Vec4`: `x[k]` holds vertex
+/// `k`'s coordinates (`[x, y, z]` lanes), `g[k][j]` the coefficients, `ws`/`wsh` the weights.
+/// Returns each triangle's three contributions, as [`rhs_contributions`] would, bit for bit.
+#[inline(always)]
+pub fn rhs_contributions_x4(g: &[[Vec4; 2]; 3], x: &[[Vec4; 3]; 3], ws: Vec4, wsh: Vec4) -> [[Vec3A; 3]; 4] {
+    // c[j][axis] = x0·g0j + x1·g1j + x2·g2j, left to right as `columns`.
+    let c: [[Vec4; 3]; 2] =
+        [0, 1].map(|j| [0, 1, 2].map(|a| x[0][a] * g[0][j] + x[1][a] * g[1][j] + x[2][a] * g[2][j]));
+    let dot = |u: &[Vec4; 3], v: &[Vec4; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    // Stretch: `unit_or_same` per column.
+    let ps = c.map(|cj| {
+        let l = sqrt4(dot(&cj, &cj));
+        let keep: BVec4A = l.cmpgt(Vec4::splat(1e-12));
+        cj.map(|ca| Vec4::select(keep, ca / l, ca))
+    });
+    // Shear: `project_shear`.
+    let d = dot(&c[0], &c[1]);
+    let s = dot(&c[0], &c[0]) + dot(&c[1], &c[1]);
+    let disc = (s * s - Vec4::splat(4.0) * d * d).max(Vec4::ZERO);
+    let lambda = Vec4::splat(2.0) * d / (s + sqrt4(disc)).max(Vec4::splat(1e-30));
+    let denom = Vec4::ONE - lambda * lambda;
+    let keep_state = denom.cmplt(Vec4::splat(1e-6));
+    let inv = Vec4::ONE / denom;
+    let ph = [
+        [0, 1, 2].map(|a| Vec4::select(keep_state, c[0][a], (c[0][a] - c[1][a] * lambda) * inv)),
+        [0, 1, 2].map(|a| Vec4::select(keep_state, c[1][a], (c[1][a] - c[0][a] * lambda) * inv)),
+    ];
+    let q = [0, 1].map(|j| [0, 1, 2].map(|a| ps[j][a] * ws + ph[j][a] * wsh));
+    // Vertex k's contribution, lanes per axis, then transposed to one `Vec3A` a triangle.
+    let mut out = [[Vec3A::ZERO; 3]; 4];
+    for k in 0..3 {
+        let o = [0, 1, 2].map(|a| q[0][a] * g[k][0] + q[1][a] * g[k][1]);
+        let t = Mat4::from_cols(o[0], o[1], o[2], Vec4::ZERO).transpose();
+        for (i, col) in [t.x_axis, t.y_axis, t.z_axis, t.w_axis].into_iter().enumerate() {
+            out[i][k] = Vec3A::from_vec4(col);
+        }
+    }
+    out
+}
+
+/// Lane-wise square root (correctly rounded, as `f32::sqrt`).
+#[inline(always)]
+fn sqrt4(v: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_loadu_ps, _mm_sqrt_ps, _mm_storeu_ps};
+        let a = v.to_array();
+        let mut r = [0.0f32; 4];
+        // SAFETY: SSE2 is part of x86-64; both pointers are to 4 f32s.
+        unsafe { _mm_storeu_ps(r.as_mut_ptr(), _mm_sqrt_ps(_mm_loadu_ps(a.as_ptr()))) };
+        Vec4::from_array(r)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::from_array(v.to_array().map(f32::sqrt))
+    }
+}
+
 /// Energy `w_s/2·Σ‖cⱼ−p_sⱼ‖² + w_sh/2·Σ‖cⱼ−p_shⱼ‖²` (f64 for the error measures).
-pub fn energy(g: &[[f32; 2]; 3], x: [Vec3; 3], ws: f32, wsh: f32) -> f64 {
+pub fn energy(g: &[[f32; 2]; 3], x: [Vec3A; 3], ws: f32, wsh: f32) -> f64 {
     let c = columns(g, x);
     let ps = project_stretch(c);
     let ph = project_shear(c);
@@ -142,23 +205,23 @@ mod tests {
     fn f_is_identity_on_the_rest_shape() {
         let (a, b, c) = rest();
         let g = strain_coefficients(a, b, c).unwrap();
-        let x = [a, b, c].map(|r| Vec3::new(r[0] as f32, r[1] as f32, 0.0));
+        let x = [a, b, c].map(|r| Vec3A::new(r[0] as f32, r[1] as f32, 0.0));
         let f = columns(&g, x);
-        assert!((f[0] - Vec3::X).length() < 1e-5 && (f[1] - Vec3::Y).length() < 1e-5, "{f:?}");
+        assert!((f[0] - Vec3A::X).length() < 1e-5 && (f[1] - Vec3A::Y).length() < 1e-5, "{f:?}");
         assert!(energy(&g, x, 1.0, 1.0) < 1e-10);
     }
 
     #[test]
     fn shear_projection_is_orthogonal_and_closest() {
-        let c = [Vec3::new(1.0, 0.3, 0.1), Vec3::new(0.5, 0.9, -0.2)];
+        let c = [Vec3A::new(1.0, 0.3, 0.1), Vec3A::new(0.5, 0.9, -0.2)];
         let p = project_shear(c);
         assert!(p[0].dot(p[1]).abs() < 1e-5);
-        let dist = |q: [Vec3; 2]| (q[0] - c[0]).length_squared() + (q[1] - c[1]).length_squared();
+        let dist = |q: [Vec3A; 2]| (q[0] - c[0]).length_squared() + (q[1] - c[1]).length_squared();
         // No orthogonal pair obtained by rotating p within its plane is closer.
         let n = p[0].cross(p[1]).normalize();
         for k in -20..=20 {
             let t = k as f32 * 0.01;
-            let r = glam::Quat::from_axis_angle(n, t);
+            let r = glam::Quat::from_axis_angle(n.into(), t);
             let q = [r * p[0], r * p[1]];
             assert!(dist(q) >= dist(p) - 1e-5, "rotation {t} is closer");
         }
@@ -166,12 +229,47 @@ mod tests {
 
     #[test]
     fn stretch_projection_normalises() {
-        let p = project_stretch([Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 0.5, 0.0)]);
+        let p = project_stretch([Vec3A::new(2.0, 0.0, 0.0), Vec3A::new(0.0, 0.5, 0.0)]);
         assert!((p[0].length() - 1.0).abs() < 1e-6 && (p[1].length() - 1.0).abs() < 1e-6);
     }
 
     #[test]
     fn degenerate_rest_is_rejected() {
         assert!(strain_coefficients([0.0, 0.0], [1.0, 0.0], [2.0, 0.0]).is_none());
+    }
+
+    #[test]
+    fn four_lanes_are_the_scalar_kernel_bit_for_bit() {
+        // Stretched, sheared, compressed, zero-length and parallel columns, in every lane.
+        let (a, b, c) = rest();
+        let g0 = strain_coefficients(a, b, c).unwrap();
+        let g1 = strain_coefficients([0.0, 0.0], [0.01, 0.0], [0.003, 0.012]).unwrap();
+        let mut seed = 7u32;
+        let mut next = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+        };
+        let mut cases: Vec<([[f32; 2]; 3], [Vec3A; 3], f32, f32)> = Vec::new();
+        for k in 0..40 {
+            let g = if k % 2 == 0 { g0 } else { g1 };
+            let x = [0; 3].map(|_| Vec3A::new(next(), next(), next()));
+            cases.push((g, x, 1.0 + next(), 0.1 + next().abs()));
+        }
+        let p = Vec3A::new(0.2, 0.1, 0.3);
+        cases.push((g0, [p; 3], 600.0, 60.0)); // every column zero
+        cases.push((g1, [p, p + Vec3A::X * 0.01, p + Vec3A::X * 0.01], 600.0, 60.0)); // parallel columns
+        for quad in cases.chunks_exact(4) {
+            let lanes = |f: &dyn Fn(usize) -> f32| Vec4::new(f(0), f(1), f(2), f(3));
+            let g = [0, 1, 2].map(|k| [0, 1].map(|j| lanes(&|i| quad[i].0[k][j])));
+            let x = [0, 1, 2].map(|k| [0, 1, 2].map(|a| lanes(&|i| quad[i].1[k][a])));
+            let out = rhs_contributions_x4(&g, &x, lanes(&|i| quad[i].2), lanes(&|i| quad[i].3));
+            for (i, (g, x, ws, wsh)) in quad.iter().enumerate() {
+                let want = rhs_contributions(g, *x, *ws, *wsh);
+                for k in 0..3 {
+                    let (got, want) = (out[i][k].to_array().map(f32::to_bits), want[k].to_array().map(f32::to_bits));
+                    assert_eq!(got, want, "lane {i}, vertex {k}");
+                }
+            }
+        }
     }
 }

@@ -55,7 +55,6 @@ def test_blender_gets_the_same_counts_and_returns_every_particle(tmp_path):
     assert not rec["quality"]["nan"] and rec["quality"]["seam_gap_vertex_pairs_m"] >= 0
 
 
-@pytest.mark.skipif(scenes.available("shirt-5k") is not None, reason="GarmentCode body mesh absent")
 def test_shirt_5k_is_issue_22s_shirt_at_1_2_cm():
     # Issue 22's benchmark: the GarmentCode shirt meshed at 1.2 cm, about 5,400 particles,
     # sewn onto the GarmentCode body.

@@ -28,7 +28,9 @@ import tailor
 
 REPO = Path(__file__).resolve().parents[2]
 SHIRT = REPO / "native/tailor-core/tests/data/garmentcode/shirt_mean_specification.json"
-BODY = REPO.parent / "shared/data/bodies/garmentcode-mean-all/mean_all.obj"
+# The GarmentCode mean body, as copied into the repository with its licence
+# (sample_blends/sources/LICENSE-mean_all.txt; the same file as ../shared/data's).
+BODY = REPO / "sample_blends/sources/mean_all.obj"
 
 FABRIC = dict(density=0.15, stretch=600.0, shear=60.0, bend=2e-5)  # Tailor's defaults, SI units
 FPS = 30.0

@@ -53,3 +53,12 @@ def test_blender_gets_the_same_counts_and_returns_every_particle(tmp_path):
     x = np.load(out.with_suffix(".npy"))
     assert x.shape == s["positions"].shape and np.isfinite(x).all()
     assert not rec["quality"]["nan"] and rec["quality"]["seam_gap_vertex_pairs_m"] >= 0
+
+
+def test_shirt_5k_is_issue_22s_shirt_at_1_2_cm():
+    # Issue 22's benchmark: the GarmentCode shirt meshed at 1.2 cm, about 5,400 particles,
+    # sewn onto the GarmentCode body.
+    s = scenes.build("shirt-5k")
+    assert 5000 < len(s["positions"]) < 6000
+    assert len(s["seam_offsets"]) - 1 == 18 and len(s["body_triangles"]) > 0
+    assert 0.011 < float(np.mean(s["rest_lengths"])) < 0.013

@@ -9,8 +9,9 @@ Scenes:
 
 * ``sheet-1k`` / ``sheet-10k``: a 1 m square sheet (32² and 100² particles) starting
   horizontal, its top edge pinned, swinging down under gravity (Z up). No body, no seams.
-* ``shirt-1k`` / ``shirt-10k``: the GarmentCode shirt (``shirt_mean_specification.json``)
-  triangulated at 30 mm and 8.8 mm, placed around the GarmentCode mean body (Y up, static),
+* ``shirt-1k`` / ``shirt-5k`` / ``shirt-10k``: the GarmentCode shirt
+  (``shirt_mean_specification.json``) triangulated at 30 mm, 12 mm (issue 22's 1.2 cm, 5,485
+  particles) and 8.8 mm, placed around the GarmentCode mean body (Y up, static),
   its seams closing from up to 43 cm apart: the *assembly*, with gravity off. (With gravity on
   from the first frame, as ``tailor simulate`` runs it, the open pieces slide down the body while
   the seams close and the shirt ends below the feet, in Tailor as well; the quality metrics of
@@ -27,7 +28,9 @@ import tailor
 
 REPO = Path(__file__).resolve().parents[2]
 SHIRT = REPO / "native/tailor-core/tests/data/garmentcode/shirt_mean_specification.json"
-BODY = REPO.parent / "shared/data/bodies/garmentcode-mean-all/mean_all.obj"
+# The GarmentCode mean body, as copied into the repository with its licence
+# (sample_blends/sources/LICENSE-mean_all.txt; the same file as ../shared/data's).
+BODY = REPO / "sample_blends/sources/mean_all.obj"
 
 FABRIC = dict(density=0.15, stretch=600.0, shear=60.0, bend=2e-5)  # Tailor's defaults, SI units
 FPS = 30.0
@@ -37,6 +40,7 @@ SCENES = {
     "sheet-1k": dict(kind="sheet", n=32, frames=45),
     "sheet-10k": dict(kind="sheet", n=100, frames=45),
     "shirt-1k": dict(kind="shirt", edge=0.03, frames=45),
+    "shirt-5k": dict(kind="shirt", edge=0.012, frames=45),  # issue 22's shirt at 1.2 cm
     "shirt-10k": dict(kind="shirt", edge=0.0088, frames=45),
 }
 

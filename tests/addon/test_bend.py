@@ -108,3 +108,42 @@ def test_rest_point_under_a_world_point_follows_the_bend(scene, addon):
     world = addon.scene_data.vertex_positions(obj)
     for i in (0, len(rest) // 3, len(rest) - 1):
         assert addon.scene_data.rest_point(obj, world[i]) == pytest.approx(tuple(rest[i]), abs=1e-5)
+
+
+def test_bend_onto_a_cone_or_to_a_radius_matches_the_module(scene, addon):
+    """The redo panel's Radius and Taper (issue 25) are `tailor.bend`'s `radius` and
+    `taper_deg`, stored on the piece, written to its garment file and re-applied after a
+    change of resolution."""
+    import tailor
+
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    bpy.context.view_layer.objects.active = obj
+    rest = addon.scene_data.rest_of(obj)
+    flat = np.c_[rest, np.zeros(len(rest), np.float32)]
+    c = (rest.min(axis=0) + rest.max(axis=0)) / 2
+    axis = (float(c[0]), float(c[1]), -0.1)
+    sym = (tuple(map(float, c)), (0.0, 1.0))
+    kw = dict(axis_point=axis, axis_direction=(0, 1, 0), use_symmetry=True, symmetry_point=tuple(c),
+              symmetry_direction=(0, 1))
+    assert bpy.ops.tailor.bend(angle=math.radians(120), taper=math.radians(3), **kw) == {"FINISHED"}
+    cone = tailor.bend(flat, rest, axis, (0, 1, 0), 120.0, symmetry=sym, taper_deg=3.0)
+    np.testing.assert_allclose(local_positions(obj), cone, atol=1e-5)
+    assert not np.allclose(cone, tailor.bend(flat, rest, axis, (0, 1, 0), 120.0, symmetry=sym), atol=1e-3)
+    assert addon.scene_data.bend_of(obj)["taper_deg"] == pytest.approx(3.0)
+    assert addon.scene_data.bend_of(obj)["radius"] is None
+    assert bpy.ops.tailor.bend(angle=1.0, use_radius=True, radius=0.08, taper=math.radians(-2), **kw) == {"FINISHED"}
+    ref = tailor.bend(flat, rest, axis, (0, 1, 0), math.degrees(1.0), symmetry=sym, radius=0.08, taper_deg=-2.0)
+    np.testing.assert_allclose(local_positions(obj), ref, atol=1e-5)
+    assert addon.scene_data.bend_of(obj)["radius"] == pytest.approx(0.08)
+    # A new resolution bends the new mesh onto the same cone.
+    bpy.ops.tailor.set_resolution(edge_length=0.04)
+    rest2 = addon.scene_data.rest_of(obj)
+    ref2 = tailor.bend(np.c_[rest2, np.zeros(len(rest2), np.float32)], rest2, axis, (0, 1, 0), math.degrees(1.0),
+                       symmetry=sym, radius=0.08, taper_deg=-2.0)
+    np.testing.assert_allclose(local_positions(obj), ref2, atol=1e-5)
+    # A cone whose apex falls inside the piece is reported, naming the setting, and changes nothing.
+    before = local_positions(obj)
+    with pytest.raises(RuntimeError, match="taper_deg"):
+        bpy.ops.tailor.bend(angle=1.0, use_radius=True, radius=0.05, taper=math.radians(40), **kw)
+    np.testing.assert_array_equal(local_positions(obj), before)
+

@@ -147,3 +147,41 @@ def test_bend_onto_a_cone_or_to_a_radius_matches_the_module(scene, addon):
         bpy.ops.tailor.bend(angle=1.0, use_radius=True, radius=0.05, taper=math.radians(40), **kw)
     np.testing.assert_array_equal(local_positions(obj), before)
 
+
+def test_the_gizmo_operator_is_the_bend_operator(scene, addon):
+    """The gizmo's drag commits through Bend's exec path: run with the same values (as its redo
+    panel does) it gives the same mesh and stored bend; the gizmo group shows on a piece while
+    the Bend panel's Gizmo toggle is on."""
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    bpy.context.view_layer.objects.active = obj
+    rest = addon.scene_data.rest_of(obj)
+    c = (rest.min(axis=0) + rest.max(axis=0)) / 2
+    kw = dict(angle=math.radians(150), axis_point=(c[0] + 0.02, c[1], -0.08), axis_direction=(0, 1, 0),
+              use_symmetry=True, symmetry_point=(c[0] + 0.02, c[1]), symmetry_direction=(0, 1), threshold=0.01,
+              use_radius=False, radius=0.05, taper=math.radians(4))
+    assert bpy.ops.tailor.bend_gizmo("EXEC_DEFAULT", handle="ANGLE", **kw) == {"FINISHED"}
+    by_gizmo = local_positions(obj)
+    stored = {k: getattr(obj.tailor_piece, k) for k in ("bend_angle", "bend_radius", "bend_taper", "bend_threshold")}
+    bpy.ops.tailor.bend(angle=0.0)
+    assert bpy.ops.tailor.bend(**kw) == {"FINISHED"}
+    np.testing.assert_array_equal(local_positions(obj), by_gizmo)
+    assert stored == {k: getattr(obj.tailor_piece, k) for k in stored}
+    # The gizmo group: registered, shown only with the toggle on and a piece active.
+    group = addon.bend.gizmo_group.TAILOR_GGT_bend
+    assert "bl_rna" in group.__dict__  # registered
+    wm = bpy.context.window_manager
+    assert not group.poll(bpy.context)
+    wm.tailor_bend_gizmo = True
+    try:
+        assert group.poll(bpy.context)
+        h, angle = addon.bend.gizmo_group.placement(obj)
+        assert angle == pytest.approx(math.radians(150))
+        np.testing.assert_allclose(h.centre, kw["axis_point"], atol=1e-6)
+        # The radius arrow is as long as the radius the angle rolls the piece onto.
+        reach = c[0] + 0.02 - rest[:, 0].min()
+        reach = max(reach, rest[:, 0].max() - c[0] - 0.02) - 0.01
+        assert h.radius == pytest.approx(reach / math.radians(150), rel=1e-5)
+        bpy.context.view_layer.objects.active = None
+        assert not group.poll(bpy.context)
+    finally:
+        wm.tailor_bend_gizmo = False

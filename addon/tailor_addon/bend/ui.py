@@ -30,6 +30,7 @@ class TAILOR_PT_bend(TailorPanel, bpy.types.Panel):
         row.operator("tailor.bend", text="Bend…", icon="MOD_SIMPLEDEFORM")
         flat = row.operator("tailor.bend", text="Flatten", icon="MESH_PLANE")
         flat.angle = 0.0
+        layout.prop(context.window_manager, "tailor_bend_gizmo", text="Gizmo", icon="GIZMO")
 
 
 classes = (TAILOR_PT_bend,)

@@ -169,6 +169,33 @@ def test_bend_rolls_a_piece_without_stretching_it():
     assert np.allclose(back, pos, atol=1e-5)
 
 
+def test_bend_onto_a_cone_keeps_lengths_and_names_a_bad_taper():
+    """`taper_deg` rolls the panel onto a cone (issue 25): lengths kept as on the cylinder, the
+    shape different from the cylinder's; a cone whose apex falls inside the piece, or NaN, is an
+    error naming `taper_deg`."""
+    piece = tailor.read_pattern(str(SKIRT)).pieces[0]
+    m = tailor.triangulate(piece, edge=0.01)
+    pos = np.concatenate([m.rest, np.zeros((len(m.rest), 1), np.float32)], axis=1)
+    centre = m.rest.mean(axis=0)
+    axis = (float(centre[0]), float(centre[1]), -0.1)
+    sym = ((float(centre[0]), 0.0), (0.0, 1.0))
+    edges = np.unique(np.sort(np.concatenate([m.triangles[:, [0, 1]], m.triangles[:, [1, 2]],
+                                              m.triangles[:, [2, 0]]]), axis=1), axis=0)
+
+    def lengths(p):
+        return np.linalg.norm(p[edges[:, 0]].astype(np.float64) - p[edges[:, 1]], axis=1)
+
+    for taper in (4.0, -4.0):
+        cone = tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 90.0, symmetry=sym, taper_deg=taper)
+        assert np.abs(lengths(cone) / lengths(pos) - 1.0).max() < 1e-3
+        cylinder = tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 90.0, symmetry=sym)
+        assert np.abs(cone - cylinder).max() > 1e-3
+    for bad in (45.0, float("nan")):
+        with pytest.raises(tailor.InvalidParameterError, match="taper_deg"):
+            # (a 1 cm radius at 45 degrees: the apex 1.4 cm from the axis point, inside the 6.5 cm band)
+            tailor.bend(pos, m.rest, axis, (0.0, 1.0, 0.0), 90.0, symmetry=sym, radius=0.01, taper_deg=bad)
+
+
 def test_a_garment_files_bend_keeps_its_mode_and_older_files_rotate(tmp_path):
     """A bend saved in a garment file comes back with its mode; a file written before the roll
     (no `mode`) builds the paper's rotation, as it did."""
@@ -279,7 +306,8 @@ def test_garment_gives_back_its_placements_bends_and_meshers(tmp_path):
     pieces = g.pieces
     moved = dict(pieces[0].placement, translation=[0.1, 0.2, 0.3])
     bend = {"axis_point": [0.0, 1.2, 0.0], "axis_direction": [0.0, 1.0, 0.0], "angle_deg": -30.0,
-            "symmetry": ((0.0, 0.0), (0.0, 1.0)), "threshold": 0.01, "radius": 0.08, "mode": "roll"}
+            "symmetry": ((0.0, 0.0), (0.0, 1.0)), "threshold": 0.01, "radius": 0.08, "mode": "roll",
+            "taper_deg": 2.0}
     n = len(pieces)
     g2 = tailor.Garment.from_parts(pieces, g.edge_lengths, g.seams, placements=[moved] + [None] * (n - 1),
                                    bends=[None, None, bend] + [None] * (n - 3), meshers=[1] + [g.meshers[1]] * (n - 1))
@@ -292,8 +320,9 @@ def test_garment_gives_back_its_placements_bends_and_meshers(tmp_path):
         assert p["translation"] == pytest.approx(source.placement["translation"])
     bends = g3.bends
     assert bends[:2] == [None, None] and all(b is None for b in bends[3:])
-    assert {k: bends[2][k] for k in ("angle_deg", "threshold", "radius", "mode")} == \
-        {k: bend[k] for k in ("angle_deg", "threshold", "radius", "mode")}
+    assert {k: bends[2][k] for k in ("angle_deg", "threshold", "radius", "mode", "taper_deg")} == \
+        {k: bend[k] for k in ("angle_deg", "threshold", "radius", "mode", "taper_deg")}
+    assert bends[3] is None or bends[3]["taper_deg"] == 0.0
     assert bends[2]["axis_point"] == bend["axis_point"] and bends[2]["symmetry"] == bend["symmetry"]
     assert g3.meshers == [1] + [g.meshers[1]] * (n - 1)
     g4 = tailor.Garment.from_parts(g3.pieces, g3.edge_lengths, g3.seams, placements=placements, bends=bends,

@@ -238,6 +238,19 @@ def bend_of(obj) -> dict | None:
         "symmetry": (tuple(p.bend_symmetry_point), tuple(p.bend_symmetry_direction)) if p.bend_symmetry else None,
         "threshold": p.bend_threshold,
         "mode": bend_mode(p),
+        "radius": p.bend_radius if p.bend_radius > 0.0 else None,
+        "taper_deg": math.degrees(p.bend_taper),
+    }
+
+
+def stored_bend_kwargs(p) -> dict:
+    """`tailor.bend`'s keyword arguments for a piece's stored bend (after its positional ones)."""
+    return {
+        "symmetry": (tuple(p.bend_symmetry_point), tuple(p.bend_symmetry_direction)) if p.bend_symmetry else None,
+        "threshold": p.bend_threshold,
+        "radius": p.bend_radius if p.bend_radius > 0.0 else None,
+        "taper_deg": math.degrees(p.bend_taper),
+        "mode": bend_mode(p),
     }
 
 

@@ -108,3 +108,80 @@ def test_rest_point_under_a_world_point_follows_the_bend(scene, addon):
     world = addon.scene_data.vertex_positions(obj)
     for i in (0, len(rest) // 3, len(rest) - 1):
         assert addon.scene_data.rest_point(obj, world[i]) == pytest.approx(tuple(rest[i]), abs=1e-5)
+
+
+def test_bend_onto_a_cone_or_to_a_radius_matches_the_module(scene, addon):
+    """The redo panel's Radius and Taper (issue 25) are `tailor.bend`'s `radius` and
+    `taper_deg`, stored on the piece, written to its garment file and re-applied after a
+    change of resolution."""
+    import tailor
+
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    bpy.context.view_layer.objects.active = obj
+    rest = addon.scene_data.rest_of(obj)
+    flat = np.c_[rest, np.zeros(len(rest), np.float32)]
+    c = (rest.min(axis=0) + rest.max(axis=0)) / 2
+    axis = (float(c[0]), float(c[1]), -0.1)
+    sym = (tuple(map(float, c)), (0.0, 1.0))
+    kw = dict(axis_point=axis, axis_direction=(0, 1, 0), use_symmetry=True, symmetry_point=tuple(c),
+              symmetry_direction=(0, 1))
+    assert bpy.ops.tailor.bend(angle=math.radians(120), taper=math.radians(3), **kw) == {"FINISHED"}
+    cone = tailor.bend(flat, rest, axis, (0, 1, 0), 120.0, symmetry=sym, taper_deg=3.0)
+    np.testing.assert_allclose(local_positions(obj), cone, atol=1e-5)
+    assert not np.allclose(cone, tailor.bend(flat, rest, axis, (0, 1, 0), 120.0, symmetry=sym), atol=1e-3)
+    assert addon.scene_data.bend_of(obj)["taper_deg"] == pytest.approx(3.0)
+    assert addon.scene_data.bend_of(obj)["radius"] is None
+    assert bpy.ops.tailor.bend(angle=1.0, use_radius=True, radius=0.08, taper=math.radians(-2), **kw) == {"FINISHED"}
+    ref = tailor.bend(flat, rest, axis, (0, 1, 0), math.degrees(1.0), symmetry=sym, radius=0.08, taper_deg=-2.0)
+    np.testing.assert_allclose(local_positions(obj), ref, atol=1e-5)
+    assert addon.scene_data.bend_of(obj)["radius"] == pytest.approx(0.08)
+    # A new resolution bends the new mesh onto the same cone.
+    bpy.ops.tailor.set_resolution(edge_length=0.04)
+    rest2 = addon.scene_data.rest_of(obj)
+    ref2 = tailor.bend(np.c_[rest2, np.zeros(len(rest2), np.float32)], rest2, axis, (0, 1, 0), math.degrees(1.0),
+                       symmetry=sym, radius=0.08, taper_deg=-2.0)
+    np.testing.assert_allclose(local_positions(obj), ref2, atol=1e-5)
+    # A cone whose apex falls inside the piece is reported, naming the setting, and changes nothing.
+    before = local_positions(obj)
+    with pytest.raises(RuntimeError, match="taper_deg"):
+        bpy.ops.tailor.bend(angle=1.0, use_radius=True, radius=0.05, taper=math.radians(40), **kw)
+    np.testing.assert_array_equal(local_positions(obj), before)
+
+
+def test_the_gizmo_operator_is_the_bend_operator(scene, addon):
+    """The gizmo's drag commits through Bend's exec path: run with the same values (as its redo
+    panel does) it gives the same mesh and stored bend; the gizmo group shows on a piece while
+    the Bend panel's Gizmo toggle is on."""
+    obj = import_pattern(SKIRT_SVG, edge_length=0.05)[0]
+    bpy.context.view_layer.objects.active = obj
+    rest = addon.scene_data.rest_of(obj)
+    c = (rest.min(axis=0) + rest.max(axis=0)) / 2
+    kw = dict(angle=math.radians(150), axis_point=(c[0] + 0.02, c[1], -0.08), axis_direction=(0, 1, 0),
+              use_symmetry=True, symmetry_point=(c[0] + 0.02, c[1]), symmetry_direction=(0, 1), threshold=0.01,
+              use_radius=False, radius=0.05, taper=math.radians(4))
+    assert bpy.ops.tailor.bend_gizmo("EXEC_DEFAULT", handle="ANGLE", **kw) == {"FINISHED"}
+    by_gizmo = local_positions(obj)
+    stored = {k: getattr(obj.tailor_piece, k) for k in ("bend_angle", "bend_radius", "bend_taper", "bend_threshold")}
+    bpy.ops.tailor.bend(angle=0.0)
+    assert bpy.ops.tailor.bend(**kw) == {"FINISHED"}
+    np.testing.assert_array_equal(local_positions(obj), by_gizmo)
+    assert stored == {k: getattr(obj.tailor_piece, k) for k in stored}
+    # The gizmo group: registered, shown only with the toggle on and a piece active.
+    group = addon.bend.gizmo_group.TAILOR_GGT_bend
+    assert "bl_rna" in group.__dict__  # registered
+    wm = bpy.context.window_manager
+    assert not group.poll(bpy.context)
+    wm.tailor_bend_gizmo = True
+    try:
+        assert group.poll(bpy.context)
+        h, angle = addon.bend.gizmo_group.placement(obj)
+        assert angle == pytest.approx(math.radians(150))
+        np.testing.assert_allclose(h.centre, kw["axis_point"], atol=1e-6)
+        # The radius arrow is as long as the radius the angle rolls the piece onto.
+        reach = c[0] + 0.02 - rest[:, 0].min()
+        reach = max(reach, rest[:, 0].max() - c[0] - 0.02) - 0.01
+        assert h.radius == pytest.approx(reach / math.radians(150), rel=1e-5)
+        bpy.context.view_layer.objects.active = None
+        assert not group.poll(bpy.context)
+    finally:
+        wm.tailor_bend_gizmo = False

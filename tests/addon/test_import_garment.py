@@ -53,7 +53,7 @@ def garment_scene(addon) -> list:
     c = (rest.min(axis=0) + rest.max(axis=0)) / 2
     assert bpy.ops.tailor.bend(angle=math.radians(60), axis_point=(c[0], c[1], -0.12), axis_direction=(0, 1, 0),
                                use_symmetry=True, symmetry_point=tuple(c), symmetry_direction=(0, 1),
-                               threshold=0.01) == {"FINISHED"}
+                               threshold=0.01, use_radius=True, radius=0.09, taper=math.radians(2.0)) == {"FINISHED"}
     # A piece moved and turned by hand, one of its vertices dragged (the file keeps the shape).
     moved = pieces[0]
     moved.rotation_euler = (0.3, -0.2, 0.7)
@@ -134,6 +134,8 @@ def assert_same_garment_files(first, second, with_collider_levels: bool = True) 
             assert bb["angle_deg"] == pytest.approx(ba["angle_deg"], abs=1e-5)
             assert (bb["symmetry"], bb["threshold"], bb["mode"]) == (ba["symmetry"], pytest.approx(ba["threshold"]),
                                                                      ba["mode"])
+            assert bb.get("radius") == pytest.approx(ba.get("radius"))
+            assert bb.get("taper_deg", 0.0) == pytest.approx(ba.get("taper_deg", 0.0))
     assert [(s.name, s.a, s.b, s.mode, s.stiffness, s.bend_stiffness) for s in a.seams] == [
         (s.name, s.a, s.b, s.mode, s.stiffness, s.bend_stiffness) for s in b.seams]
     sa, sb = a.setup, b.setup
@@ -162,6 +164,8 @@ def test_an_exported_garment_imports_and_exports_again_the_same(scene, addon, tm
     export(first)
     painted = {name for name, _, _ in tailor.Garment.load(str(first)).particle_params}
     assert painted == set(tailor.PAINTED_MAPS)  # every map the file can carry is in the test
+    bends = [b for b in tailor.Garment.load(str(first)).bends if b is not None]
+    assert [(b["radius"], b["taper_deg"]) for b in bends] == [(pytest.approx(0.09), pytest.approx(2.0))]
 
     bpy.ops.wm.read_homefile(use_empty=True)
     collider = add_collider()  # the mesh the levels were painted on, in the new scene too
@@ -191,6 +195,8 @@ def test_an_exported_garment_imports_and_exports_again_the_same(scene, addon, tm
     co = np.empty(3 * len(bent.data.vertices), np.float32)
     bent.data.vertices.foreach_get("co", co)
     assert np.ptp(co.reshape(-1, 3)[:, 2]) > 0.02  # bent again, not flat
+    p = bent.tailor_piece  # onto the file's cone, radius and taper kept (issue 25)
+    assert (p.bend_radius, math.degrees(p.bend_taper)) == (pytest.approx(0.09), pytest.approx(2.0))
     assert len(addon.scene_data.build_garment(bpy.context.scene).seams) == 18
 
 

@@ -21,15 +21,16 @@ class TAILOR_PT_bend(TailorPanel, bpy.types.Panel):
             return
         p = obj.tailor_piece
         if p.bend_angle:
-            layout.label(
-                text=f"Bent by {math.degrees(p.bend_angle):.0f}°" + (" (symmetric)" if p.bend_symmetry else "")
-            )
+            how = f"radius {p.bend_radius * 100:.1f} cm" if p.bend_radius > 0.0 else f"{math.degrees(p.bend_angle):.0f}°"
+            cone = f", taper {math.degrees(p.bend_taper):.1f}°" if p.bend_taper else ""
+            layout.label(text=f"Bent by {how}{cone}" + (" (symmetric)" if p.bend_symmetry else ""))
         else:
             layout.label(text="Flat")
         row = layout.row(align=True)
         row.operator("tailor.bend", text="Bend…", icon="MOD_SIMPLEDEFORM")
         flat = row.operator("tailor.bend", text="Flatten", icon="MESH_PLANE")
         flat.angle = 0.0
+        layout.prop(context.window_manager, "tailor_bend_gizmo", text="Gizmo", icon="GIZMO")
 
 
 classes = (TAILOR_PT_bend,)

@@ -55,6 +55,8 @@ class PieceBend:
     symmetry: tuple[tuple[float, float], tuple[float, float]] | None
     threshold: float
     rolled: bool
+    radius: float | None = None  # the roll's cylinder (None: from the angle)
+    taper: float = 0.0  # radians: the cone's half-angle (0: a cylinder)
 
 
 @dataclass
@@ -175,18 +177,20 @@ def piece_bend(bend: dict | None, frame: _Frame) -> PieceBend | None:
         symmetry=symmetry,
         threshold=float(bend["threshold"]),
         rolled=bend["mode"] == "roll",
+        radius=None if bend.get("radius") is None else float(bend["radius"]),
+        taper=math.radians(float(bend.get("taper_deg") or 0.0)),
     )
 
 
-def bent_flat(mesh: tailor.PieceMesh, bend: PieceBend | None, radius: float | None) -> np.ndarray:
-    """The piece flat in its own frame, bent as stored (and to `radius` when the file gives one)."""
+def bent_flat(mesh: tailor.PieceMesh, bend: PieceBend | None) -> np.ndarray:
+    """The piece flat in its own frame, bent as stored."""
     co = np.zeros((len(mesh.rest), 3), np.float32)
     co[:, :2] = mesh.rest
     if bend is None:
         return co
     return tailor.bend(co, mesh.rest, bend.axis_point, bend.axis_direction, math.degrees(bend.angle),
-                       symmetry=bend.symmetry, threshold=bend.threshold, radius=radius,
-                       mode="roll" if bend.rolled else "rotate")
+                       symmetry=bend.symmetry, threshold=bend.threshold, radius=bend.radius,
+                       taper_deg=math.degrees(bend.taper), mode="roll" if bend.rolled else "rotate")
 
 
 def same_mesh(a: tailor.PieceMesh, b: tailor.PieceMesh) -> bool:
@@ -268,10 +272,6 @@ def read_garment_file(path: str, up: str = "AUTO") -> ImportedGarment:
     for i, (source, placement, stored, mesh) in enumerate(zip(sources, placements, bends, meshes)):
         frame = piece_frame(placement, turn, beside.get(i, (0.0, 0.0, 0.0)))
         bend = piece_bend(stored, frame)
-        radius = stored["radius"] if stored else None
-        if radius is not None:
-            warnings.append(f"piece '{source.name}' is bent to a radius of {radius:.4g} m, which the add-on does not "
-                            "store: Set Resolution bends it again by its angle")
         positions = maps[i].pop("position", None)
         if i in remeshed:
             near = nearest_rest(file_meshes[i].rest, mesh.rest)
@@ -280,7 +280,7 @@ def read_garment_file(path: str, up: str = "AUTO") -> ImportedGarment:
         if positions is not None:
             co = frame.local_points(np.asarray(positions, np.float64).reshape(-1, 3))
         else:
-            co = bent_flat(mesh, bend, radius)
+            co = bent_flat(mesh, bend)
         groups, levels, painted_warnings = painted_of(source.name, maps[i], setup)
         warnings += painted_warnings
         pieces.append(ImportedPiece(

@@ -60,6 +60,7 @@ def write_piece(coll, piece: ImportedPiece, path: str, index: int):
         if b.symmetry is not None:
             p.bend_symmetry_point, p.bend_symmetry_direction = b.symmetry
         p.bend_threshold, p.bend_rolled = b.threshold, b.rolled
+        p.bend_radius, p.bend_taper = b.radius or 0.0, b.taper
     for group, (indices, weights) in piece.groups.items():
         write_group(obj, group, indices, weights)
     if piece.levels is not None:

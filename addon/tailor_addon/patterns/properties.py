@@ -63,6 +63,9 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
     # How: rolled onto a cylinder, lengths kept (the Bend operator's); off in files bent before,
     # whose pieces were rotated as in the paper and are re-bent so (`tailor.bend`'s `mode`).
     bend_rolled: BoolProperty(name="Bend Rolled", default=False)
+    # The roll's cylinder radius (0: from the angle) and cone half-angle (0: a cylinder).
+    bend_radius: FloatProperty(name="Bend Radius", subtype="DISTANCE", unit="LENGTH", min=0.0, default=0.0)
+    bend_taper: FloatProperty(name="Bend Taper", subtype="ANGLE", default=0.0)
 
 
 classes = (TailorPieceSettings,)

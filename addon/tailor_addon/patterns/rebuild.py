@@ -23,16 +23,13 @@ def bent_positions(obj, mesh: tailor.PieceMesh, co: np.ndarray) -> np.ndarray:
     p = obj.tailor_piece
     if p.bend_angle == 0.0:
         return co
-    symmetry = (tuple(p.bend_symmetry_point), tuple(p.bend_symmetry_direction)) if p.bend_symmetry else None
     return tailor.bend(
         co,
         mesh.rest,
         tuple(p.bend_axis_point),
         tuple(p.bend_axis_direction),
         float(np.degrees(p.bend_angle)),
-        symmetry=symmetry,
-        threshold=p.bend_threshold,
-        mode=scene_data.bend_mode(p),
+        **scene_data.stored_bend_kwargs(p),
     )
 
 

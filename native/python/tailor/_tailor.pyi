@@ -430,6 +430,7 @@ class Garment:
         threshold: float = 0.0,
         radius: float | None = None,
         mode: str = "roll",
+        taper_deg: float = 0.0,
     ) -> None: ...
     def build_simulation(
         self,
@@ -464,6 +465,7 @@ def bend(
     threshold: float = 0.0,
     radius: float | None = None,
     mode: str = "roll",
+    taper_deg: float = 0.0,
 ) -> F32: ...
 
 class WeldedMesh:

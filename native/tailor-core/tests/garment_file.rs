@@ -25,6 +25,8 @@ fn garment() -> Garment {
         threshold: 0.01,
         radius: None,
         mode: BendMode::Roll,
+        // A cone (issue 25): written and read back like the rest.
+        taper_deg: 3.0,
     };
     let n = ms.rest.len();
     let mut g = Garment::default();

@@ -61,6 +61,7 @@ fn sleeve_bent_round_an_arm_keeps_its_edge_lengths() {
                 threshold: 0.0,
                 radius: None,
                 mode: BendMode::Roll,
+                taper_deg: 0.0,
             };
             let mut pos = flat.clone();
             bend_piece(&mut pos, &m.rest, &params).unwrap();

@@ -264,7 +264,8 @@ impl Garment {
 
     /// Bends piece `piece` after placement (see `tailor.bend`); `angle_deg = 0` without a
     /// `radius` removes it.
-    #[pyo3(signature = (piece, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None, mode="roll"))]
+    #[pyo3(signature = (piece, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None, mode="roll", taper_deg=0.0))]
+    #[allow(clippy::too_many_arguments)]
     fn set_bend(
         &mut self,
         piece: usize,
@@ -275,6 +276,7 @@ impl Garment {
         threshold: f64,
         radius: Option<f64>,
         mode: &str,
+        taper_deg: f64,
     ) -> PyResult<()> {
         crate::errors::guard(|| {
             let n = self.inner.pieces.len();
@@ -289,6 +291,7 @@ impl Garment {
                 threshold,
                 radius,
                 BendMode::parse(mode).map_err(to_py)?,
+                taper_deg,
             );
             p.bend = if angle_deg == 0.0 && radius.is_none() { None } else { Some(params) };
             Ok(())
@@ -564,6 +567,7 @@ fn bend_dict<'py>(py: Python<'py>, b: &BendParams) -> PyResult<Bound<'py, PyDict
     d.set_item("threshold", b.threshold)?;
     d.set_item("radius", b.radius)?;
     d.set_item("mode", b.mode.name())?;
+    d.set_item("taper_deg", b.taper_deg)?;
     Ok(d)
 }
 
@@ -584,6 +588,10 @@ fn bend_from(d: &Bound<'_, PyDict>) -> PyResult<BendParams> {
         Some(v) if !v.is_none() => BendMode::parse(&v.extract::<String>()?).map_err(to_py)?,
         _ => BendMode::Roll,
     };
+    let taper_deg = match d.get_item("taper_deg")? {
+        Some(v) if !v.is_none() => v.extract()?,
+        _ => 0.0,
+    };
     Ok(bend_params(
         item(d, "axis_point", "bend")?.extract()?,
         item(d, "axis_direction", "bend")?.extract()?,
@@ -592,9 +600,11 @@ fn bend_from(d: &Bound<'_, PyDict>) -> PyResult<BendParams> {
         threshold,
         radius,
         mode,
+        taper_deg,
     ))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn bend_params(
     axis_point: [f64; 3],
     axis_direction: [f64; 3],
@@ -603,6 +613,7 @@ fn bend_params(
     threshold: f64,
     radius: Option<f64>,
     mode: BendMode,
+    taper_deg: f64,
 ) -> BendParams {
     BendParams {
         axis_point,
@@ -612,15 +623,18 @@ fn bend_params(
         threshold,
         radius,
         mode,
+        taper_deg,
     }
 }
 
 /// Rolls a flat placed piece onto a cylinder round an axis, keeping lengths along it (paper
 /// Fig. 4, made isometric: `tailor_core::bend`); returns the new (n, 3) positions.
 /// `symmetry` = ((x, y), (dx, dy)), a rest-frame line whose sides roll in opposite senses;
-/// `radius` sets the cylinder instead of `angle_deg`, whose sign then only says which way it rolls.
+/// `radius` sets the cylinder instead of `angle_deg`, whose sign then only says which way it rolls;
+/// `taper_deg` rolls it onto a cone instead (for a tapered limb), whose radius is the cylinder's
+/// level with `axis_point` and grows by `sin(taper_deg)` per metre along `axis_direction`.
 #[pyfunction]
-#[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None, mode="roll"))]
+#[pyo3(signature = (positions, rest, axis_point, axis_direction, angle_deg, symmetry=None, threshold=0.0, radius=None, mode="roll", taper_deg=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn bend<'py>(
     py: Python<'py>,
@@ -633,12 +647,13 @@ pub fn bend<'py>(
     threshold: f64,
     radius: Option<f64>,
     mode: &str,
+    taper_deg: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     crate::errors::guard(|| {
         let mut p = points3(positions, "positions")?;
         let r = points2(rest, "rest")?;
         let mode = BendMode::parse(mode).map_err(to_py)?;
-        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold, radius, mode);
+        let params = bend_params(axis_point, axis_direction, angle_deg, symmetry, threshold, radius, mode, taper_deg);
         bend_piece(&mut p, &r, &params).map_err(to_py)?;
         rows(py, &p)
     })

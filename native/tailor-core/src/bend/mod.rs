@@ -1,8 +1,10 @@
 //! Bending a placed piece around a user axis before simulation (paper Sec. 4, Fig. 4), so that
 //! a flat sleeve is wrapped around the arm instead of its seams cutting through it: rolled
-//! onto a cylinder, every length kept ([`roll`], the default), or rotated as in the paper
-//! ([`rotate`], which stretches the piece: garment files written before open as they were).
+//! onto a cylinder, every length kept ([`roll`], the default), or onto a cone for a tapered
+//! limb ([`cone`], `taper_deg` ≠ 0, lengths kept too), or rotated as in the paper ([`rotate`],
+//! which stretches the piece: garment files written before open as they were).
 
+mod cone;
 mod roll;
 mod rotate;
 
@@ -39,6 +41,16 @@ pub struct BendParams {
     /// Which bend: files written before the isometric bend have none and keep the paper's.
     #[serde(default = "BendMode::of_older_files")]
     pub mode: BendMode,
+    /// Half-angle of the cone the piece rolls onto, degrees (the roll only): its radius is the
+    /// cylinder's level with `axis_point` and grows by `sin(taper)` per metre along the axis
+    /// (shrinks for a negative taper; see [`cone`]). 0, the default and what files without it
+    /// mean: the cylinder; not written when 0, so such files are as before.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub taper_deg: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// How a piece is bent.
@@ -113,6 +125,16 @@ pub(super) fn check(params: &BendParams) -> Result<V3> {
             return Err(TailorError::setting("radius", r, "must be a positive distance"));
         }
     }
+    if !(params.taper_deg.is_finite() && params.taper_deg.abs() < 90.0) {
+        return Err(TailorError::setting("taper_deg", params.taper_deg, "must be an angle between -90 and 90 degrees"));
+    }
+    if params.taper_deg != 0.0 && params.mode == BendMode::Rotate {
+        return Err(TailorError::setting(
+            "taper_deg",
+            params.taper_deg,
+            "only the roll bends onto a cone (mode \"roll\"), not the paper's rotation",
+        ));
+    }
     if let Some(line) = params.symmetry {
         let e = line.direction;
         if !((e[0] * e[0] + e[1] * e[1]).sqrt() > 1e-12) || line.point.iter().chain(&e).any(|c| !c.is_finite()) {
@@ -146,6 +168,7 @@ mod tests {
             threshold,
             radius: None,
             mode,
+            taper_deg: 0.0,
         }
     }
 
@@ -183,5 +206,19 @@ mod tests {
         assert!(new.contains(r#""mode":"roll""#), "{new}");
         assert_eq!(serde_json::from_str::<BendParams>(&new).unwrap().mode, BendMode::Roll);
         assert_eq!(BendParams { ..params(1.0, BendMode::default()) }.mode, BendMode::Roll);
+    }
+
+    /// A file without `taper_deg` is a cylinder; a cone's taper is written and read back, a
+    /// cylinder's is not written at all (files without cones are as before).
+    #[test]
+    fn bend_taper_round_trips_through_files() {
+        let old = r#"{"axis_point":[0,0,0],"axis_direction":[0,1,0],"angle_deg":40,"symmetry":null,"threshold":0.0,"mode":"roll"}"#;
+        assert_eq!(serde_json::from_str::<BendParams>(old).unwrap().taper_deg, 0.0);
+        let cyl = serde_json::to_string(&params(40.0, BendMode::Roll)).unwrap();
+        assert!(!cyl.contains("taper"), "{cyl}");
+        let cone = BendParams { taper_deg: 3.5, radius: Some(0.04), ..params(40.0, BendMode::Roll) };
+        let text = serde_json::to_string(&cone).unwrap();
+        assert!(text.contains(r#""taper_deg":3.5"#), "{text}");
+        assert_eq!(serde_json::from_str::<BendParams>(&text).unwrap(), cone);
     }
 }

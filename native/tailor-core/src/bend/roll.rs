@@ -35,7 +35,11 @@
 //! `ℓ·(ℓ/R)²/24` (0.1 % for an edge of 0.155 R). The 2D rest shape is never modified: stretch is
 //! still measured against the true pattern. Bending always starts from the flat piece (the
 //! add-on keeps its flat positions); bending a bent piece again rolls it further.
+//!
+//! With a taper (`taper_deg` ≠ 0) the same `s_i`, `σ_i`, `h_i` and `R` place each point on a
+//! cone instead, tangent to the plane along the same start line ([`cone`](super::cone)).
 
+use super::cone::Cone;
 use super::BendParams;
 use crate::error::{Result, TailorError};
 
@@ -99,6 +103,21 @@ pub(super) fn roll(positions: &mut [[f32; 3]], rest: &[[f32; 2]], params: &BendP
         None if s_max > 0.0 => s_max / params.angle_deg.to_radians().abs(),
         None => return Ok(()),
     };
+    if params.taper_deg != 0.0 {
+        let along: Vec<f64> = rel.iter().map(|&v| dot(v, d)).collect();
+        let cone = Cone::new(params.taper_deg, r, &along)?;
+        for i in 0..positions.len() {
+            if s[i] <= 0.0 {
+                continue;
+            }
+            let sigma = if u[i] < 0.0 { -1.0 } else { 1.0 };
+            let [da, dt, de] = cone.displacement(along[i], s[i], sigma, e[i] - dist, towards);
+            for k in 0..3 {
+                positions[i][k] = (o[k] + rel[i][k] + da * d[k] + dt * t_hat[k] + de * e_hat[k]) as f32;
+            }
+        }
+        return Ok(());
+    }
     for i in 0..positions.len() {
         if s[i] <= 0.0 {
             continue;

@@ -15,6 +15,12 @@ Run with the project's .venv Python (it has maturin and bpy): `make addon`.
 architecture, checks each library asks for no newer glibc symbol (`objdump -T`), and bundles
 them all; Blender installs the wheel of its own platform. The default build (`make addon`) is
 for this machine's glibc and architecture alone.
+
+`--wheel W [--wheel W2 ...]` bundles wheels built elsewhere (the release workflow's matrix,
+`.github/workflows/release.yml`: Linux, Windows and macOS runners), the manifest's platforms
+read from the wheels' tags ([`blender_platform`]); with `--split-platforms` the output is a
+folder with one zip per platform (Blender's `build --split-platforms`), each carrying only its
+platform's wheel.
 """
 
 from __future__ import annotations
@@ -37,6 +43,33 @@ WHEEL_OUT = ROOT / "build" / "wheels"
 
 #: Blender's platform name of each architecture a wheel is built for.
 PLATFORMS = {"x86_64": "linux-x64", "aarch64": "linux-arm64"}
+
+#: A wheel's platform tag (its file name's last field) -> Blender's platform name: each pattern
+#: is matched against the whole tag (PEP 425/600; macOS tags carry the minimum OS version).
+WHEEL_PLATFORMS = [
+    (r"(many|musl)linux_\d+_\d+_x86_64|manylinux(1|2010|2014)_x86_64|linux_x86_64", "linux-x64"),
+    (r"(many|musl)linux_\d+_\d+_aarch64|manylinux2014_aarch64|linux_aarch64", "linux-arm64"),
+    (r"win_amd64", "windows-x64"),
+    (r"win_arm64", "windows-arm64"),
+    (r"macosx_\d+_\d+_x86_64", "macos-x64"),
+    (r"macosx_\d+_\d+_arm64", "macos-arm64"),
+]
+
+
+def blender_platform(wheel_name: str) -> str:
+    """Blender's platform name (`linux-x64`, `windows-x64`, `macos-arm64`, ...) of a wheel, from
+    the platform tag of its file name; a wheel for more than one platform, or for none Blender
+    knows, is an error (a universal2 macOS wheel would have to be listed under both)."""
+    stem = wheel_name.removesuffix(".whl")
+    parts = stem.split("-")
+    if len(parts) < 5 or not wheel_name.endswith(".whl"):
+        sys.exit(f"build_addon: {wheel_name!r} is not a wheel file name (NAME-VERSION-PY-ABI-PLATFORM.whl)")
+    found = {blender for tag in parts[-1].split(".") for pattern, blender in WHEEL_PLATFORMS
+             if re.fullmatch(pattern, tag)}
+    if len(found) != 1:
+        sys.exit(f"build_addon: {wheel_name}: platform tag {parts[-1]!r} names "
+                 f"{'no platform Blender knows' if not found else 'several platforms: ' + ', '.join(sorted(found))}")
+    return found.pop()
 
 
 def build_wheel(compat: str | None = None, arch: str | None = None) -> Path:
@@ -88,22 +121,23 @@ def check_glibc(wheel: Path, compat: str) -> None:
                 print(f"build_addon: {wheel.name}: {name} needs at most GLIBC_{'.'.join(map(str, needed))}")
 
 
-def bundle_wheels(wheels: list[Path]) -> list[Path]:
-    """Copies the wheels into the add-on folder, replacing older ones."""
-    WHEELS.mkdir(exist_ok=True)
-    for old in WHEELS.glob("tailor-*.whl"):
+def bundle_wheels(wheels: list[Path], into: Path = WHEELS) -> list[Path]:
+    """Copies the wheels into the add-on's `wheels/` folder, replacing older ones."""
+    into.mkdir(exist_ok=True)
+    for old in into.glob("tailor-*.whl"):
         old.unlink()
     for wheel in wheels:
-        shutil.copy2(wheel, WHEELS / wheel.name)
-    return [WHEELS / w.name for w in wheels]
+        shutil.copy2(wheel, into / wheel.name)
+    return [into / w.name for w in wheels]
 
 
-def stage(wheel_names: list[str], platforms: list[str] | None = None) -> Path:
-    """A clean copy of the add-on with the manifest listing `wheel_names` (and `platforms`,
-    when given)."""
-    shutil.rmtree(STAGE, ignore_errors=True)
-    staged = STAGE / ADDON.name
-    shutil.copytree(ADDON, staged, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "_vendor"))
+def stage(wheel_names: list[str], platforms: list[str] | None = None, addon: Path = ADDON,
+          stage_dir: Path = STAGE) -> Path:
+    """A clean copy of the add-on under `stage_dir` with the manifest listing `wheel_names`
+    (and `platforms`, when given)."""
+    shutil.rmtree(stage_dir, ignore_errors=True)
+    staged = stage_dir / addon.name
+    shutil.copytree(addon, staged, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "_vendor"))
     manifest = staged / "blender_manifest.toml"
     text = manifest.read_text()
     listed = ", ".join(f'"./wheels/{name}"' for name in wheel_names)
@@ -131,30 +165,35 @@ def extension_builder() -> Path:
     return found[-1]
 
 
-def build_zip(staged: Path, output: Path) -> None:
-    output.parent.mkdir(parents=True, exist_ok=True)
-    if output.exists():
-        output.unlink()
-    cmd = [
-        sys.executable,
-        str(extension_builder()),
-        "build",
-        "--source-dir",
-        str(staged),
-        "--output-filepath",
-        str(output),
-    ]
+def build_zip(staged: Path, output: Path, split: bool = False) -> list[Path]:
+    """The extension zip at `output`; with `split`, one zip a platform in the folder `output`
+    (Blender names each `tailor-VERSION-PLATFORM.zip`). Returns the zips written."""
+    if split:
+        shutil.rmtree(output, ignore_errors=True)
+        output.mkdir(parents=True)
+        where = ["--split-platforms", "--output-dir", str(output)]
+    else:
+        output.parent.mkdir(parents=True, exist_ok=True)
+        if output.exists():
+            output.unlink()
+        where = ["--output-filepath", str(output)]
+    cmd = [sys.executable, str(extension_builder()), "build", "--source-dir", str(staged), *where]
     run = subprocess.run(cmd, capture_output=True, text=True)
     if run.returncode != 0:
         sys.exit(f"build_addon: Blender's extension builder failed:\n{run.stdout}{run.stderr}")
-    if not output.is_file():
-        sys.exit(f"build_addon: the extension builder wrote no {output}")
+    zips = sorted(output.glob("*.zip")) if split else [output] if output.is_file() else []
+    if not zips:
+        sys.exit(f"build_addon: the extension builder wrote no zip at {output}")
+    return zips
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-o", "--output", type=Path, default=ROOT / "dist" / "tailor_addon.zip")
-    ap.add_argument("--wheel", type=Path, help="use this tailor wheel instead of building one (e.g. a CI artifact)")
+    ap.add_argument("--wheel", type=Path, action="append", help="use this tailor wheel instead of building one (e.g. "
+                    "a CI artifact); repeat for several platforms (the manifest's platforms from their tags)")
+    ap.add_argument("--split-platforms", action="store_true", help="write one zip per platform into the folder "
+                    "given by -o (default dist/extensions)")
     ap.add_argument("--compat", metavar="TAG", help="build with maturin --zig for this manylinux tag (e.g. "
                                                      "manylinux_2_28: glibc 2.28, Rocky/Alma Linux 8)")
     ap.add_argument("--arch", default="x86_64", help="with --compat: architectures, comma-separated "
@@ -162,7 +201,17 @@ def main() -> None:
     args = ap.parse_args()
     platforms = None
     if args.wheel:
-        wheels = [args.wheel.resolve()]
+        wheels = [w.resolve() for w in args.wheel]
+        missing = [str(w) for w in wheels if not w.is_file()]
+        if missing:
+            sys.exit(f"build_addon: no such wheel: {', '.join(missing)}")
+        by_platform: dict[str, str] = {}
+        for w in wheels:
+            p = blender_platform(w.name)
+            if p in by_platform:
+                sys.exit(f"build_addon: two wheels for {p}: {by_platform[p]} and {w.name}")
+            by_platform[p] = w.name
+        platforms = sorted(by_platform)
     elif args.compat:
         if not re.fullmatch(r"manylinux_\d+_\d+", args.compat):
             sys.exit(f"build_addon: --compat {args.compat!r}: expected a tag such as manylinux_2_28")
@@ -174,10 +223,16 @@ def main() -> None:
         platforms = [PLATFORMS[a] for a in archs]
     else:
         wheels = [build_wheel()]
+    if args.split_platforms and not platforms:
+        sys.exit("build_addon: --split-platforms needs wheels with their platforms (--wheel or --compat)")
+    output = args.output
+    if args.split_platforms and output == ap.get_default("output"):
+        output = ROOT / "dist" / "extensions"
     bundled = bundle_wheels(wheels)
-    build_zip(stage([b.name for b in bundled], platforms), args.output.resolve())
+    zips = build_zip(stage([b.name for b in bundled], platforms), output.resolve(), args.split_platforms)
     names = ", ".join(b.name for b in bundled)
-    print(f"build_addon: {args.output} ({args.output.stat().st_size / 1e6:.1f} MB, wheels {names})")
+    for z in zips:
+        print(f"build_addon: {z} ({z.stat().st_size / 1e6:.1f} MB, from wheels {names})")
 
 
 if __name__ == "__main__":

@@ -140,3 +140,25 @@ def test_scene_garment_welds_as_the_module_welds_the_garment():
     assert text.startswith(f"{sg.num_particles} vertices welded into {w.num_vertices} ({w.stats['merged']} merged")
     with pytest.raises(core.AddonError, match="positions for a garment of"):
         core.welded.weld(sg, sg.positions[:-1])
+
+
+def test_painted_level_groups_override_the_level_attribute():
+    from tailor_addon.core.paint import level_group_name, level_of_group, painted_levels
+
+    assert level_group_name(3) == "tailor_level_3" and level_of_group("tailor_level_3") == 3
+    assert level_of_group("tailor_level_-2") == -2 and level_of_group("tailor_pin") is None
+    assert level_of_group("tailor_level_3b") is None
+    assert painted_levels(None, 4, {}) is None
+    base = np.array([1, 1, 1, 1, 1], np.int32)
+    painted = np.array([True, True, True, True, False])
+    groups = {
+        3: (np.array([1.0, 0.4, 0.7, 0.9, 1.0], np.float32), painted),  # vertex 4 unpainted
+        2: (np.array([0.5, 0.9, 0.7, 0.2, 0.0], np.float32), np.ones(5, bool)),
+    }
+    # 0: 3 heavier; 1: 3 under a half, 2 over; 2: a tie, the higher level; 3: 3 alone over a
+    # half; 4: only level 2 painted there, at 0: the attribute's.
+    assert painted_levels(base, 5, groups).tolist() == [3, 2, 3, 3, 1]
+    # The same whatever order the groups come in, and the attribute left as it was.
+    assert painted_levels(base, 5, dict(reversed(list(groups.items())))).tolist() == [3, 2, 3, 3, 1]
+    assert base.tolist() == [1] * 5
+    assert painted_levels(None, 5, groups).tolist() == [3, 2, 3, 3, 0]

@@ -22,6 +22,7 @@ OPERATORS = (
     ("tailor.paint_set", "Set Painted Value"),
     ("tailor.paint_weights", "Weight Paint Map"),
     ("tailor.collision_level_set", "Set Collision Level"),
+    ("tailor.collision_level_paint", "Paint Collision Level…"),
     ("tailor.paint_clear", "Clear Painted Map"),
 )
 

@@ -2,16 +2,22 @@
 
 Friction, mass scale, bend scale and pin weight are vertex groups (painted with Blender's
 weight paint, weights in 0..1); the collision level is an integer point attribute, on garment
-pieces and on colliders alike. `values(map, weights)` turns weights into the solver's parameter.
+pieces and on colliders alike, set on a selection, and can be painted too: a vertex group per
+level (`tailor_level_N`), painted with the same weight brush, overrides the attribute where its
+weight is at least one half (`painted_levels`). `values(map, weights)` turns weights into the
+solver's parameter.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
 
 LEVEL_ATTR = "tailor_collision_level"
+LEVEL_GROUP_PREFIX = "tailor_level_"
+LEVEL_GROUP_MIN_WEIGHT = 0.5  # a vertex belongs to a painted level from this weight on
 MASS_SCALE_MIN = 0.05
 BEND_SCALE_RANGE = 100.0  # a bend-scale weight of 0 or 1 divides or multiplies the bending by this
 
@@ -77,3 +83,35 @@ def unpainted(key: str, friction: dict) -> float:
     if key == "friction_kinetic":
         return float(friction["kinetic"])
     return 0.0
+
+
+def level_group_name(level: int) -> str:
+    """The vertex group that paints collision level `level`."""
+    return f"{LEVEL_GROUP_PREFIX}{int(level)}"
+
+
+def level_of_group(name: str) -> int | None:
+    """The collision level a vertex group paints (`tailor_level_2` -> 2), or None for other groups."""
+    m = re.fullmatch(re.escape(LEVEL_GROUP_PREFIX) + r"(-?\d+)", name)
+    return int(m.group(1)) if m else None
+
+
+def painted_levels(base: np.ndarray | None, n: int,
+                   groups: dict[int, tuple[np.ndarray, np.ndarray]]) -> np.ndarray | None:
+    """Per-vertex collision levels (int32, `n` vertices) from the level attribute `base` (None:
+    level 0) and the painted level groups `{level: (weights, painted mask)}`: a vertex painted
+    with a weight of at least `LEVEL_GROUP_MIN_WEIGHT` in one or more level groups takes the level
+    of the heaviest (a tie: the higher level, so the result does not depend on group order);
+    elsewhere the attribute's. None when there is neither an attribute nor a level group."""
+    if base is None and not groups:
+        return None
+    out = np.zeros(n, np.int32) if base is None else np.asarray(base, np.int32).copy()
+    best = np.full(n, -1.0, np.float32)
+    for level in sorted(groups):
+        w, painted = groups[level]
+        w = np.where(painted, np.asarray(w, np.float32), -1.0)
+        take = (w >= LEVEL_GROUP_MIN_WEIGHT) & (w >= best)
+        out[take] = level
+        best[take] = w[take]
+    return out
+

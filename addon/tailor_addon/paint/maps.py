@@ -1,10 +1,11 @@
-"""Reading and writing the painted maps of an object (vertex groups and the level attribute)."""
+"""Reading and writing the painted maps of an object (vertex groups, the level attribute and the
+painted level groups)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..core.paint import BY_KEY, LEVEL_ATTR, WEIGHT_MAPS, values  # noqa: F401  (re-exported)
+from ..core.paint import BY_KEY, LEVEL_ATTR, WEIGHT_MAPS, level_of_group, painted_levels, values  # noqa: F401
 
 
 def group_weights(obj, group: str) -> tuple[np.ndarray, np.ndarray] | None:
@@ -23,14 +24,22 @@ def group_weights(obj, group: str) -> tuple[np.ndarray, np.ndarray] | None:
     return w, painted
 
 
+def level_groups(obj) -> dict[int, str]:
+    """{level: vertex group name} of the object's painted level groups (`tailor_level_N`)."""
+    return {lv: vg.name for vg in obj.vertex_groups if (lv := level_of_group(vg.name)) is not None}
+
+
 def collision_levels(obj) -> np.ndarray | None:
-    """(n,) int32 collision levels of a mesh object, or None when not painted."""
+    """(n,) int32 collision levels of a mesh object (the level attribute, overridden where a level
+    group is painted: `core.paint.painted_levels`), or None when neither is there."""
+    n = len(obj.data.vertices)
     attr = obj.data.attributes.get(LEVEL_ATTR)
-    if attr is None or attr.domain != "POINT":
-        return None
-    out = np.empty(len(obj.data.vertices), np.int32)
-    attr.data.foreach_get("value", out)
-    return out
+    base = None
+    if attr is not None and attr.domain == "POINT":
+        base = np.empty(n, np.int32)
+        attr.data.foreach_get("value", base)
+    groups = {lv: group_weights(obj, name) for lv, name in level_groups(obj).items()}
+    return painted_levels(base, n, groups)
 
 
 def painted_maps(obj) -> dict:

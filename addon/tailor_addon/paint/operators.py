@@ -2,8 +2,10 @@
 
 Weight maps are ordinary vertex groups, so Blender's own weight paint edits them; these
 operators add the exact-value path (select vertices in edit mode, set a value) and the integer
-collision levels, which weight paint cannot hold. All work on the active mesh object: a
-garment piece, or the character (collision levels).
+collision levels, which weight paint cannot hold as one map: they are set on a selection (the
+level attribute) or painted a level at a time, each level its own vertex group painted with the
+weight brush (`core.paint.painted_levels`). All work on the active mesh object: a garment piece,
+or the character (collision levels).
 """
 
 import bpy
@@ -11,11 +13,12 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from ..core import AddonError
-from ..core.paint import BY_KEY, LEVEL_ATTR, WEIGHT_MAPS
+from ..core.paint import BY_KEY, LEVEL_ATTR, WEIGHT_MAPS, level_group_name, level_of_group
 from ..reporting import reports_errors
 
 MAP_ITEMS = [(m.key.upper(), m.label, m.meaning) for m in WEIGHT_MAPS]
-CLEAR_ITEMS = MAP_ITEMS + [("COLLISION_LEVEL", "Collision Level", "The integer collision levels")]
+CLEAR_ITEMS = MAP_ITEMS + [("COLLISION_LEVEL", "Collision Level",
+                            "The integer collision levels: the attribute and every painted level group")]
 
 
 def active_mesh(context):
@@ -150,6 +153,38 @@ class TAILOR_OT_collision_level_set(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class TAILOR_OT_collision_level_paint(bpy.types.Operator):
+    bl_idname = "tailor.collision_level_paint"
+    bl_label = "Paint Collision Level"
+    bl_description = (
+        "Paint a collision level with the weight brush: its own vertex group (tailor_level_N) on the active mesh; "
+        "where its weight is 0.5 or more the vertex takes this level (the heaviest level group wins), elsewhere the "
+        "level set on a selection"
+    )
+    bl_options = {"REGISTER", "UNDO"}
+
+    level: IntProperty(name="Level", description="Collision level to paint (layers collide by level)", default=1,
+                       min=0, max=65536)
+
+    @classmethod
+    def poll(cls, context):
+        return context.active_object is not None and context.active_object.type == "MESH"
+
+    def invoke(self, context, event):
+        return context.window_manager.invoke_props_dialog(self)
+
+    @reports_errors("Starting to paint a collision level")
+    def execute(self, context):
+        obj = active_mesh(context)
+        name = level_group_name(self.level)
+        vg = obj.vertex_groups.get(name) or obj.vertex_groups.new(name=name)
+        obj.vertex_groups.active_index = vg.index
+        context.scene.tailor.show_collision_levels = True
+        if obj.mode != "WEIGHT_PAINT":
+            bpy.ops.object.mode_set(mode="WEIGHT_PAINT")
+        return {"FINISHED"}
+
+
 class TAILOR_OT_paint_clear(bpy.types.Operator):
     bl_idname = "tailor.paint_clear"
     bl_label = "Clear Painted Map"
@@ -168,9 +203,13 @@ class TAILOR_OT_paint_clear(bpy.types.Operator):
         with _ObjectMode(obj):
             if self.map == "COLLISION_LEVEL":
                 attr = obj.data.attributes.get(LEVEL_ATTR)
-                if attr is None:
+                groups = [vg for vg in obj.vertex_groups if level_of_group(vg.name) is not None]
+                if attr is None and not groups:
                     raise AddonError(f"'{obj.name}' has no collision levels", "Nothing to clear")
-                obj.data.attributes.remove(attr)
+                if attr is not None:
+                    obj.data.attributes.remove(attr)
+                for vg in groups:
+                    obj.vertex_groups.remove(vg)
             else:
                 vg = obj.vertex_groups.get(BY_KEY[self.map.lower()].group)
                 if vg is None:
@@ -179,4 +218,10 @@ class TAILOR_OT_paint_clear(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (TAILOR_OT_paint_set, TAILOR_OT_paint_weights, TAILOR_OT_collision_level_set, TAILOR_OT_paint_clear)
+classes = (
+    TAILOR_OT_paint_set,
+    TAILOR_OT_paint_weights,
+    TAILOR_OT_collision_level_set,
+    TAILOR_OT_collision_level_paint,
+    TAILOR_OT_paint_clear,
+)

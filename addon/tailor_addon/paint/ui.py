@@ -40,7 +40,13 @@ class TAILOR_PT_paint(TailorPanel, bpy.types.Panel):
             values, counts = np.unique(levels, return_counts=True)
             row.label(text="Collision levels: " + ", ".join(f"{v} ×{c}" for v, c in zip(values, counts)))
             row.operator("tailor.paint_clear", text="", icon="X").map = "COLLISION_LEVEL"
-        box.operator("tailor.collision_level_set", icon="MOD_PHYSICS")
+        row = box.row(align=True)
+        row.operator("tailor.collision_level_set", icon="MOD_PHYSICS")
+        row.operator("tailor.collision_level_paint", text="Paint Level", icon="BRUSH_DATA")
+        for level, name in sorted(maps.level_groups(obj).items()):
+            row = box.row(align=True)
+            row.label(text=f"Level {level}: painted ({name})")
+            row.operator("tailor.collision_level_paint", text="", icon="BRUSH_DATA").level = level
         box.prop(context.scene.tailor, "show_collision_levels")
 
 

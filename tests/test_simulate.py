@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import tailor
+from tailor.commands.simulate import FAILED_CHECKS
 
 DATA = Path(__file__).resolve().parents[1] / "native/tailor-core/tests/data"
 SKIRT = DATA / "garmentcode" / "flare_skirt_specification.json"
@@ -421,3 +422,31 @@ def test_a_collider_with_another_up_axis_is_turned_into_the_garments(tmp_path):
     np.testing.assert_array_equal(turn_up(turn_up(v, "y", "z"), "z", "y"), v)
     with pytest.raises(tailor.InvalidParameterError, match="'x'"):
         turn_up(v, "y", "x")
+
+
+def test_maps_writes_every_frames_strain_distance_and_pressure(tmp_path):
+    """`--maps` writes the fit maps of every recorded frame (Simulation.fit_maps) and a summary
+    of them in each frame's record; the skirt hangs on a ball, so its particles touching the
+    ball are pressed and the rest are not; a wrong suffix or --resume is refused first."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.05", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15)
+    report, maps = tmp_path / "r.json", tmp_path / "maps.npz"
+    r = cli("simulate", garment, "--collider", body, "--frames", "3", "--report", report, "--maps", maps,
+            "-o", tmp_path / "c.pc2")
+    assert r.returncode in (0, FAILED_CHECKS), r.stderr  # the skirt on a ball may fail a check; no error
+    z = np.load(maps)
+    frames = json.load(open(report))["frames"]
+    n = np.asarray(tailor.read_pc2(tmp_path / "c.pc2")["frames"]).shape[1]
+    assert {k: z[k].shape for k in z} == {k: (3, n) for k in ("strain", "distance", "pressure")}
+    assert all(np.isfinite(z[k]).all() for k in z)
+    last = frames[-1]["fit"]
+    assert last["strain_max"] == pytest.approx(float(z["strain"][-1].max()))
+    touching = z["distance"][-1] < 0.006
+    assert touching.any() and (z["pressure"][-1][~touching] == 0).all() and (z["pressure"][-1][touching] > 0).any()
+    bad = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", report, "--maps", tmp_path / "m.npy")
+    assert bad.returncode != 0 and "--maps" in bad.stderr and ".npz" in bad.stderr and "Traceback" not in bad.stderr
+    bad = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", report, "--maps", maps,
+              "-o", tmp_path / "c2.pc2", "--resume")
+    assert bad.returncode != 0 and "--resume" in bad.stderr and "Traceback" not in bad.stderr

@@ -205,6 +205,15 @@ class Simulation:
         static_friction: float = 0.3,
         kinetic_friction: float = 0.2,
     ) -> None: ...
+    def fit_maps(self, collider: int | None = None) -> dict[str, F32 | None]:
+        """Per-particle fit maps of the current state, as garment tools show to judge fit:
+        ``strain`` (the largest stretch round each particle against its pattern, area-weighted
+        over its triangles: 0.05 is 5 %), and with mesh collider ``collider`` ``distance``
+        (signed distance to its surface, metres, positive outside) and ``pressure`` (the body's
+        push on the cloth at rest, pascals: the cloth's stretch, shear and weight it balances,
+        per particle area, where the particle is within the thickness + 2 mm of the surface;
+        0 elsewhere). Without a collider both are None."""
+        ...
     def metrics(self, collider: int | None = None) -> dict[str, Any]:
         """Quality of the current state: "penetration_count", "penetration_max_depth" (into
         mesh collider `collider`, 0 without one), "self_intersections", "seam_gap",

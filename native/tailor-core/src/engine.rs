@@ -159,6 +159,12 @@ impl Solver {
         self.on_threads(|s| s.sim.metrics(collider))
     }
 
+    /// The fit maps of the current state ([`crate::quality::fit_maps`]).
+    pub fn fit_maps(&mut self, collider: Option<ColliderId>) -> Result<crate::quality::fit_maps::FitMaps> {
+        self.sync_from_gpu();
+        self.on_threads(|s| s.sim.fit_maps(collider))
+    }
+
     /// The backend the next step will use.
     pub fn active_backend(&self) -> ActiveBackend {
         #[cfg(feature = "gpu")]

@@ -834,6 +834,21 @@ impl Simulation {
         })
     }
 
+    /// Per-particle fit maps of the current state (see the stub): `strain` always; with a mesh
+    /// collider, `distance` (signed, metres) and `pressure` (pascals).
+    #[pyo3(signature = (collider=None))]
+    fn fit_maps<'py>(slf: &Bound<'py, Self>, py: Python<'py>, collider: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
+        crate::errors::guard(|| {
+            let id = Self::collider_of(slf, collider)?;
+            let m = Self::detached(slf, |inner| inner.fit_maps(id))?.map_err(to_py)?;
+            let d = PyDict::new(py);
+            d.set_item("strain", PyArray1::from_vec(py, m.strain))?;
+            d.set_item("distance", m.distance.map(|v| PyArray1::from_vec(py, v)))?;
+            d.set_item("pressure", m.pressure.map(|v| PyArray1::from_vec(py, v)))?;
+            Ok(d)
+        })
+    }
+
     fn __repr__(&self) -> PyResult<String> {
         crate::errors::guard(|| {
             Ok({

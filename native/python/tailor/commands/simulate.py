@@ -2,7 +2,7 @@
 
     python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE | --animation NAME]
         [--loop] --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
-        [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd] [--obj-dir DIR]
+        [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd] [--obj-dir DIR] [--maps MAPS.npz]
         [--assemble-at rest|start] [--preroll N] [--transition N] [--assembly-gravity]
 
 MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or the one
@@ -39,6 +39,9 @@ as a ``warning:`` line.
 points and the pattern's UVs (``tailor.usd.UsdCache``; needs PyPI's ``usd-core``), saved
 every 10 frames and at the end, its up axis the run's. ``--obj-dir`` writes the same welded
 garment as one OBJ a frame (``DIR/GARMENT.0001.obj`` on, with UVs; ``tailor.export``).
+``--maps`` writes the fit maps of every frame (``Simulation.fit_maps``: strain, signed distance
+to the collider, pressure) as an .npz of frames x particles, and their summary in each frame's
+record (``"fit"``); not with ``--resume``.
 
 Progress: one line per frame on stdout. ``-o`` is written frame by frame (``tailor.Pc2Stream``:
 a valid cache of the frames done after every frame), and the report every 10 frames
@@ -94,6 +97,9 @@ def register(sub):
                    help="also write the garment welded along its seams as USD (.usd, .usda or .usdc; needs usd-core)")
     p.add_argument("--obj-dir", metavar="DIR",
                    help="also write the garment welded along its seams as one OBJ a frame (DIR/NAME.0001.obj, ...)")
+    p.add_argument("--maps", metavar="MAPS.npz",
+                   help="also write the fit maps of every frame (Simulation.fit_maps: strain, signed distance to the "
+                        "collider in metres, pressure in pascals), arrays of frames x particles, frame 1 first")
     p.add_argument("--resume", action="store_true",
                    help="go on from the frames already in -o (solved again and checked, then continued)")
     p.add_argument("--edge", type=float, help="re-triangulate every piece at this edge length first")
@@ -133,9 +139,14 @@ def run(args):
     tailor.check_playback(args.fps, args.frames)
     inputs = [("GARMENT_FILE", args.garment), ("GARMENT_FILE's sidecar", tailor.sidecar_path(args.garment)),
               ("--collider", args.collider)] + ([("--collider-anim", args.collider_anim)] if args.collider_anim else [])
-    outputs = [("--report", args.report)] + [(flag, path) for flag, path in (("-o", args.output), ("--usd", args.usd))
-                                              if path]
+    outputs = [("--report", args.report)] + [(flag, path) for flag, path in (("-o", args.output), ("--usd", args.usd),
+                                                                            ("--maps", args.maps)) if path]
     tailor.check_outputs(inputs, outputs)
+    if args.maps and Path(args.maps).suffix.lower() != ".npz":
+        raise tailor.InvalidParameterError(f"--maps {args.maps}: the maps are written as NumPy's .npz")
+    if args.maps and args.resume:
+        raise tailor.InvalidParameterError("--maps with --resume: the resumed frames are solved again without their "
+                                           "maps; run without --resume to map every frame")
     if args.usd and Path(args.usd).suffix.lower() not in (".usd", ".usda", ".usdc"):
         raise tailor.InvalidParameterError(f"--usd {args.usd}: a USD file ends in .usd, .usda or .usdc")
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
@@ -225,6 +236,8 @@ def run(args):
         for f in run.frames[1:]:
             objs.add(f)
 
+    maps = FitMapFrames(args.maps) if args.maps else None
+
     def report(complete: bool) -> dict:
         summary = bake.summarize(frames)
         doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend, "threads": sim.threads,
@@ -251,6 +264,8 @@ def run(args):
             usd.add(run.frames[-1])
         if objs is not None:
             objs.add(run.frames[-1])
+        if maps is not None:
+            rec["fit"] = maps.add(sim.fit_maps(cid))
         print(f"frame {f:4d}/{args.frames}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
               f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
               f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "
@@ -258,7 +273,11 @@ def run(args):
               f"on the {(rec.get('backend') or '-').upper()}", flush=True)
         if f % 10 == 0:
             report(complete=False)
+            if maps is not None:
+                maps.write()
     summary = report(complete=True)
+    if maps is not None:
+        maps.write()
     if usd is not None:
         usd.close()
     for w in warnings:
@@ -269,3 +288,33 @@ def run(args):
     if summary["nan"]:
         return 1
     return FAILED_CHECKS if summary["verdict"] else 0
+
+
+class FitMapFrames:
+    """The fit maps of the recorded frames (``--maps``), written to ``path`` as an .npz of
+    ``strain``, ``distance`` and ``pressure`` (float32, frames x particles), rewritten whole
+    (through a temporary file) every 10 frames and at the end, as the report is."""
+
+    def __init__(self, path: str):
+        self.path = path
+        self.frames: dict[str, list] = {"strain": [], "distance": [], "pressure": []}
+
+    def add(self, m: dict) -> dict:
+        """Keeps one frame's maps; returns their summary for the frame's record."""
+        import numpy as np
+
+        for k in self.frames:
+            self.frames[k].append(np.asarray(m[k], np.float32))
+        s, p, d = m["strain"], m["pressure"], m["distance"]
+        return {"strain_p50": float(np.median(s)), "strain_p99": float(np.percentile(s, 99)),
+                "strain_max": float(s.max()), "pressure_max_pa": float(p.max()),
+                "pressure_p99_pa": float(np.percentile(p, 99)), "distance_median_m": float(np.median(d))}
+
+    def write(self) -> None:
+        import numpy as np
+
+        Path(self.path).parent.mkdir(parents=True, exist_ok=True)
+        tmp = self.path + ".tmp.npz"
+        np.savez(tmp, **{k: np.stack(v) if v else np.zeros((0, 0), np.float32) for k, v in self.frames.items()})
+        os.replace(tmp, self.path)
+

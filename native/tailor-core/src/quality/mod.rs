@@ -11,6 +11,7 @@
 //! Python module's `tailor.judge`, the bake loops) use it: it imports only the geometric
 //! kernels of [`crate::collision`], never the solver.
 
+pub mod fit_maps;
 pub mod metrics;
 pub mod verdict;
 

@@ -23,6 +23,7 @@
 mod attach;
 mod closing_hold;
 mod colliders;
+mod fit_maps;
 mod metrics;
 mod step;
 pub(crate) mod view;

@@ -135,7 +135,9 @@ class LiveSession:
         return edits
 
     def stats(self) -> dict:
-        r = self.last.record if self.last is not None else {}
+        # The quality of the latest measured frame (Live measures a few times a second).
+        m = self.solver.measured
+        r = m.record if m is not None else {}
         return {
             "fps": self.solver.fps(),
             "seam_gap_mm": r.get("seam_gap_max_m", 0.0) * 1e3,

@@ -87,7 +87,7 @@ class LiveSession:
                            self.objects):
             inv = np.linalg.inv(np.array(o.matrix_world, np.float64))
             local = (part.astype(np.float64) @ inv[:3, :3].T + inv[:3, 3]).astype(np.float32)
-            o.data.vertices.foreach_set("co", local.reshape(-1))
+            gather.write_positions(o.data, local.reshape(-1))
             o.data.update()
 
     def pending_edits(self, scene) -> list:
@@ -169,15 +169,13 @@ class LiveSession:
         for name, co in zip(self.piece_names, positions):
             o = bpy.data.objects.get(name)
             if co is not None and o is not None and len(o.data.vertices) * 3 == len(co):
-                o.data.vertices.foreach_set("co", co)
+                gather.write_positions(o.data, co)
                 o.data.update()
 
 
 def _local_co(obj) -> np.ndarray:
     """A mesh object's local vertex positions, flat."""
-    co = np.empty(len(obj.data.vertices) * 3, np.float32)
-    obj.data.vertices.foreach_get("co", co)
-    return co
+    return gather.read_positions(obj.data)
 
 
 def hold_all_for_save() -> None:

@@ -176,6 +176,71 @@ def run(garment: str, frames: int, warmup: int, preset: str, profile: bool) -> d
     return out
 
 
+def run_modal(garment: str, seconds: float, preset: str, tick_s: float) -> dict:
+    """Live as its modal timer runs it, emulated (the bpy wheel has no event loop): the
+    timeline plays at the scene's rate for `seconds` (Blender's playback, dropping frames: the
+    frame is the one the clock is at), and every `tick_s` seconds the timer's tick
+    (`LiveSession.tick`) collects a finished frame, submits the next and writes the pieces.
+    Returns Live's frames applied per second, and how long the solver sat idle between
+    frames (a finished solve waiting for the next tick, then the main thread's turn)."""
+    import cloth_scene
+
+    fps_scene = 30
+    frames = int(seconds * fps_scene) + 2
+    d = Path(tempfile.mkdtemp(prefix=f"tailor-profile-{garment}-"))
+    try:
+        setup = cloth_scene.walking_scene(garment, d / f"{garment}_walk.blend", frames=frames)
+        bpy.ops.wm.open_mainfile(filepath=str(d / f"{garment}_walk.blend"))
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+    scene = bpy.context.scene
+    scene.tailor_simulate.preset = preset
+    live = import_module(MODULE + ".simulate.live")
+    session = live.start(bpy.context)
+    from tailor import bake
+
+    spans = []  # (start, finish) of each native request
+    start_async = bake.start_async
+
+    class Noted(PendingProxy):
+        def finish(self):
+            picked = time.perf_counter()
+            out = self.pending.finish()
+            spans.append((self.t0, picked, picked - self.t0 - float(out.get("wall_s", 0.0))))
+            return out
+
+    bake.start_async = lambda sim, request: Noted(start_async(sim, request), Timed())
+    applied, ticks = [], 0
+    t0 = time.perf_counter()
+    next_tick = t0
+    while True:
+        now = time.perf_counter()
+        if now - t0 >= seconds:
+            break
+        if now < next_tick:
+            time.sleep(next_tick - now)
+            continue
+        next_tick = now + tick_s  # a window manager timer: the next event an interval after this one
+        frame = setup["start"] + min(int((now - t0) * fps_scene), frames - 1)
+        if frame != scene.frame_current:
+            scene.frame_set(frame)
+        res = session.tick(bpy.context)
+        ticks += 1
+        if session.error is not None:
+            raise session.error
+        if res is not None:
+            applied.append(time.perf_counter())
+    elapsed = time.perf_counter() - t0
+    live.stop(scene)
+    bake.start_async = start_async
+    busy = sum(b - a for a, b, _ in spans if a >= t0)
+    # From the solve's end to the tick that picks it up (with the frame's measurement, when it
+    # was measured): the median is an unmeasured frame's wait for the timer.
+    late = statistics.median(w for a, _, w in spans if a >= t0) if spans else 0.0
+    return {"garment": garment, "tick_s": tick_s, "seconds": elapsed, "frames": len(applied),
+            "fps": len(applied) / elapsed, "solver_busy": busy / elapsed, "ticks": ticks, "pickup_ms": late * 1e3}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--zip", type=Path, default=ROOT / "dist" / "tailor_addon.zip")
@@ -186,6 +251,9 @@ def main() -> None:
     ap.add_argument("--profile", action="store_true", help="print the operator's cProfile (25 dearest)")
     ap.add_argument("--positions", type=Path, help="save every frame's positions here (.npz)")
     ap.add_argument("--json", type=Path, help="append the medians as one JSON line here")
+    ap.add_argument("--modal", type=float, metavar="TICK_S", help="instead: Live on its (emulated) modal timer, "
+                    "ticked every TICK_S seconds while the timeline plays (`run_modal`)")
+    ap.add_argument("--seconds", type=float, default=4.0, help="with --modal: how long the timeline plays")
     args = ap.parse_args()
     try:
         assert bpy.ops.extensions.package_install_files(filepath=str(args.zip.resolve()), repo="user_default",
@@ -195,7 +263,14 @@ def main() -> None:
         assert Path(tailor.__file__).is_relative_to(USER_DIR), tailor.__file__
         saved, line = {}, {"zip": str(args.zip), "load": os.getloadavg()[0],
                            "time": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())}
-        for g in args.garments.split(","):
+        for g in args.garments.split(",") if args.modal is not None else ():
+            r = run_modal(g, args.seconds, args.preset, args.modal)
+            print(f"{g}: modal {r['fps']:.2f} fps ({r['frames']} frames in {r['seconds']:.2f} s, tick "
+                  f"{args.modal * 1e3:.1f} ms, {r['ticks']} ticks), solver busy {100 * r['solver_busy']:.0f} %, "
+                  f"a solve picked up {r['pickup_ms']:.1f} ms after its end (median)",
+                  flush=True)
+            line[g] = {k: r[k] for k in ("fps", "frames", "seconds", "solver_busy", "tick_s", "pickup_ms")}
+        for g in args.garments.split(",") if args.modal is None else ():
             r = run(g, args.frames, args.warmup, args.preset, args.profile)
             m = r["median_ms"]
             print(f"{g}: {r['fps']:.2f} fps, frame {m['wall']:.1f} ms (medians of {r['frames_measured']}): "

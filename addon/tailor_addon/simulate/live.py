@@ -59,16 +59,20 @@ class LiveSession:
     # ---- main thread ----------------------------------------------------------------------------
 
     def tick(self, context, block: bool = False, timeout: float = 60.0) -> LiveResult | None:
-        """One main-thread turn: apply a finished frame, submit the next. With `block`, submit
-        first if idle and wait for that frame (scripts, tests)."""
+        """One main-thread turn: take a finished frame, submit the next, then write the finished
+        one into the pieces while the next solves. With `block`, submit first if idle and wait
+        for that frame (scripts, tests)."""
         self.ticks += 1
         if block and not self.solver.busy:
             self.submit(context)
         res = self.solver.wait(timeout) if block else self.solver.poll()
-        if res is not None:
-            self.apply(res)
+        if res is not None and res.error is not None:
+            self.error = res.error
+            return res
         if self.error is None and not self.solver.busy and not block:
             self.submit(context)
+        if res is not None:
+            self.apply(res)
         return res
 
     def submit(self, context) -> bool:

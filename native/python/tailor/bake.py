@@ -217,6 +217,8 @@ def check_collider_positions(name: str, positions: np.ndarray, count: int) -> np
     if len(p) != count:
         raise InvalidParameterError(f"collider '{name}' has {len(p)} vertices now but {count} when the bake started "
                                     "(its topology must not change over the frame range)")
+    if np.isfinite(p).all():  # the usual case, 100 times cheaper than finding the rows (0.6 ms on a body)
+        return p
     bad = np.flatnonzero(~np.isfinite(p).all(axis=1))
     if len(bad):
         raise InvalidParameterError(f"collider '{name}': vertex {int(bad[0])} is not finite ({p[bad[0]].tolist()}), "

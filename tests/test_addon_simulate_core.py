@@ -271,7 +271,7 @@ def test_live_solver_solves_on_native_threads_and_applies_edits():
 
 def test_live_measures_a_few_times_a_second_and_solves_the_same_frames():
     """Live measures a frame's quality at most every `measure_every_s` seconds (the overlay's
-    figures; the measurement is a third of a small garment's frame): the frames between have a
+    figures; the measurement costs about half the T-shirt's solve): the frames between have a
     record without quality fields, `measured` keeps the latest measured one, and the positions
     are bit for bit those of a run that measures every frame (as the modal bake does)."""
     g = two_pieces()

@@ -456,7 +456,7 @@ class Bake:
         each sent back its result (`drive` runs it on this thread); returns the record.
 
         With `measure` False the frame's quality is not measured (Live, between the frames
-        its overlay shows: the measurement costs as much as a third of the T-shirt's solve):
+        its overlay shows: the measurement costs about half the T-shirt's solve):
         the frame is solved the same, and its record (`unmeasured_record`) has no quality
         fields and judges nothing. The start frame is measured regardless (every later frame
         is judged from it)."""

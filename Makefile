@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: bench-batch bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon addon-studio bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt
+.PHONY: bench-batch bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon addon-studio bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt profile-live
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -83,6 +83,11 @@ bench-batch: develop
 ## (docs/benchmarks.md, "Add-on: Simulate"). BENCH_ARGS, e.g. --garments tshirt,skirt,trousers,layered.
 bench-addon: addon
 	$(PY) tests/addon/bench_garments.py $(BENCH_ARGS)
+
+## Where a Live frame of the add-on goes: the benchmark's Live run, each part of a frame timed
+## (docs/benchmarks.md, "Where a Live frame goes"). PROFILE_ARGS, e.g. --profile, --modal 0.005.
+profile-live: addon
+	$(PY) tests/addon/profile_live.py $(PROFILE_ARGS)
 
 ## Add-on level: Live fps and Bake s/frame of the imported GarmentCode shirt, proxy against body collider.
 bench-addon-shirt: addon

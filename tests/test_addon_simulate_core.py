@@ -269,6 +269,40 @@ def test_live_solver_solves_on_native_threads_and_applies_edits():
     assert [r["frame"] for r in run.records] == list(range(1, kept + 1))
 
 
+def test_live_measures_a_few_times_a_second_and_solves_the_same_frames():
+    """Live measures a frame's quality at most every `measure_every_s` seconds (the overlay's
+    figures; the measurement costs about half the T-shirt's solve): the frames between have a
+    record without quality fields, `measured` keeps the latest measured one, and the positions
+    are bit for bit those of a run that measures every frame (as the modal bake does)."""
+    g = two_pieces()
+    v, t = box()
+    fabrics = [core_sim.PieceFabric(0.15, 600.0, 60.0, 2e-5)] * 2
+    runs = {}
+    for every in (0.0, 3600.0):
+        built = core_sim.build(g, core_sim.SimSettings(), fabrics, [{}, {}], [core_sim.ColliderData("box", v, t)])
+        solver = LiveSolver(bake.Bake(built.sim, built.colliders, 30.0, 1), measure_every_s=every)
+        try:
+            results = []
+            for f in range(1, 6):
+                assert solver.submit(f, [v + np.float32(0.002 * f)])
+                r = solver.wait(30)
+                assert r is not None and r.error is None
+                results.append(r)
+            runs[every] = (results, solver.measured)
+        finally:
+            solver.stop()
+    every_frame, (first, *rest) = runs[0.0][0], runs[3600.0][0]
+    assert all("seam_gap_max_m" in r.record for r in every_frame) and runs[0.0][1] is every_frame[-1]
+    # The first frame is measured, then none for an hour; the overlay keeps the first's figures.
+    assert "seam_gap_max_m" in first.record and runs[3600.0][1] is first
+    assert all(r.record["measured"] is False and "seam_gap_max_m" not in r.record and r.record["ms"] > 0
+               for r in rest)
+    for a, b in zip(every_frame, [first, *rest]):
+        assert a.positions.tobytes() == b.positions.tobytes()
+    # The modal bake measures (and keeps) every frame whatever it is asked.
+    assert LiveSolver(bake.Bake(built.sim, built.colliders, 30.0, 1), keep_frames=True).measure_every_s == 0.0
+
+
 def test_a_stop_with_no_time_leaves_the_frame_to_its_thread_quietly(monkeypatch):
     """Stopped with no time to finish a frame in progress (its assembly under held gravity),
     the frame is left to its native thread and its loop is closed there and then: its clean-up

@@ -18,7 +18,8 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 MODULE = "bl_ext.user_default.tailor_addon"
 
-sys.path[:] = [p for p in sys.path if not p.startswith(str(ROOT / "native" / "python"))]
+# As conftest.py: maturin develop's .pth entry may point at another git worktree's native/python.
+sys.path[:] = [p for p in sys.path if Path(p).parts[-2:] != ("native", "python")]
 if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
 USER_DIR = Path(tempfile.mkdtemp(prefix="tailor-bench-user-"))

@@ -59,16 +59,20 @@ class LiveSession:
     # ---- main thread ----------------------------------------------------------------------------
 
     def tick(self, context, block: bool = False, timeout: float = 60.0) -> LiveResult | None:
-        """One main-thread turn: apply a finished frame, submit the next. With `block`, submit
-        first if idle and wait for that frame (scripts, tests)."""
+        """One main-thread turn: take a finished frame, submit the next, then write the finished
+        one into the pieces while the next solves. With `block`, submit first if idle and wait
+        for that frame (scripts, tests)."""
         self.ticks += 1
         if block and not self.solver.busy:
             self.submit(context)
         res = self.solver.wait(timeout) if block else self.solver.poll()
-        if res is not None:
-            self.apply(res)
+        if res is not None and res.error is not None:
+            self.error = res.error
+            return res
         if self.error is None and not self.solver.busy and not block:
             self.submit(context)
+        if res is not None:
+            self.apply(res)
         return res
 
     def submit(self, context) -> bool:
@@ -87,7 +91,7 @@ class LiveSession:
                            self.objects):
             inv = np.linalg.inv(np.array(o.matrix_world, np.float64))
             local = (part.astype(np.float64) @ inv[:3, :3].T + inv[:3, 3]).astype(np.float32)
-            o.data.vertices.foreach_set("co", local.reshape(-1))
+            gather.write_positions(o.data, local.reshape(-1))
             o.data.update()
 
     def pending_edits(self, scene) -> list:
@@ -135,7 +139,9 @@ class LiveSession:
         return edits
 
     def stats(self) -> dict:
-        r = self.last.record if self.last is not None else {}
+        # The quality of the latest measured frame (Live measures a few times a second).
+        m = self.solver.measured
+        r = m.record if m is not None else {}
         return {
             "fps": self.solver.fps(),
             "seam_gap_mm": r.get("seam_gap_max_m", 0.0) * 1e3,
@@ -167,15 +173,13 @@ class LiveSession:
         for name, co in zip(self.piece_names, positions):
             o = bpy.data.objects.get(name)
             if co is not None and o is not None and len(o.data.vertices) * 3 == len(co):
-                o.data.vertices.foreach_set("co", co)
+                gather.write_positions(o.data, co)
                 o.data.update()
 
 
 def _local_co(obj) -> np.ndarray:
     """A mesh object's local vertex positions, flat."""
-    co = np.empty(len(obj.data.vertices) * 3, np.float32)
-    obj.data.vertices.foreach_get("co", co)
-    return co
+    return gather.read_positions(obj.data)
 
 
 def hold_all_for_save() -> None:

@@ -253,12 +253,13 @@ class TAILOR_OT_live(bpy.types.Operator):
             self._run.end(context)
             return {"FINISHED"}
         if event.type == "TIMER":
-            session.tick(context)
+            res = session.tick(context)
             if session.error is not None:
                 report(self, session.error, "Live simulation")
                 self._run.end(context)
                 return {"FINISHED"}
-            redraw_view3d(context)
+            if res is not None:  # a new frame in the pieces (most ticks only find the solve running)
+                redraw_view3d(context)
         return {"PASS_THROUGH"}
 
     def cancel(self, context):

@@ -22,9 +22,13 @@ from . import draw, job as bake_job, live
 #: The runs in progress (the load_pre handler ends them).
 RUNNING: set = set()
 
-#: Seconds between the modal bake's ticks, and Live's (a display refresh).
+#: Seconds between the modal bake's ticks, and Live's. A finished solve waits for the next tick
+#: (half a tick on average) with the solver idle: Live's tick is about as short as Blender's
+#: event loop goes (it sleeps 5 ms when idle); a tick that finds the solve running only polls
+#: it, and the viewport is redrawn only for a new frame. (It was 1/60 s, a display refresh: 8 ms
+#: a frame of idle solver on average, a quarter of the T-shirt's frame.)
 BAKE_TICK_S = 0.02
-LIVE_TICK_S = 1.0 / 60.0
+LIVE_TICK_S = 0.005
 
 
 def status(context, text: str | None) -> None:

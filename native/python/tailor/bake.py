@@ -98,6 +98,14 @@ def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: in
     }
 
 
+def unmeasured_record(frame: int, ms: float, positions: np.ndarray) -> dict:
+    """The record of a frame solved without its quality measured (`Bake.solves(measure=False)`):
+    its number, time and whether a position is not finite, `measured` False; no quality
+    fields, no verdict."""
+    return {"frame": int(frame), "ms": float(ms), "nan": not bool(np.isfinite(positions).all()), "measured": False,
+            "failed": []}
+
+
 def stage_ms(stats: dict) -> dict:
     """Where a solved frame's time went, in ms, from its `Simulation.step` statistics: the
     solver's stages (`prediction`, `local`, `global`, `damping`, `total`) and the collision
@@ -209,6 +217,8 @@ def check_collider_positions(name: str, positions: np.ndarray, count: int) -> np
     if len(p) != count:
         raise InvalidParameterError(f"collider '{name}' has {len(p)} vertices now but {count} when the bake started "
                                     "(its topology must not change over the frame range)")
+    if np.isfinite(p).all():  # the usual case, 100 times cheaper than finding the rows (0.6 ms on a body)
+        return p
     bad = np.flatnonzero(~np.isfinite(p).all(axis=1))
     if len(bad):
         raise InvalidParameterError(f"collider '{name}': vertex {int(bad[0])} is not finite ({p[bad[0]].tolist()}), "
@@ -441,9 +451,15 @@ class Bake:
         nothing in that case."""
         return drive(self.solves(collider_positions), self.sim)
 
-    def solves(self, collider_positions: Sequence[np.ndarray]) -> Solves:
+    def solves(self, collider_positions: Sequence[np.ndarray], measure: bool = True) -> Solves:
         """`step` as a generator of the solves and measurements it needs (`Solve`, `Measure`),
-        each sent back its result (`drive` runs it on this thread); returns the record."""
+        each sent back its result (`drive` runs it on this thread); returns the record.
+
+        With `measure` False the frame's quality is not measured (Live, between the frames
+        its overlay shows: the measurement costs about half the T-shirt's solve):
+        the frame is solved the same, and its record (`unmeasured_record`) has no quality
+        fields and judges nothing. The start frame is measured regardless (every later frame
+        is judged from it)."""
         clock = _Clock()
         stats = None
         if not self.frames:
@@ -452,14 +468,17 @@ class Bake:
             self._set_colliders(collider_positions)
         else:
             self._set_colliders(collider_positions)
-            stats = yield from self._solve(clock, 1.0 / self.fps, measure=True)
+            stats = yield from self._solve(clock, 1.0 / self.fps, measure=measure)
         ms = clock.ms()
         pos = self.sim.positions
         m = None if stats is None else stats.get("metrics")
-        if m is None:  # the start frame, or the pins attached after the frame's last solve
+        if m is None and (measure or stats is None):  # the start frame, or the pins attached after the frame's last solve
             m = yield from clock.request(Measure(self.metrics_collider))
-        self.start_metrics = judged_from(self.start_metrics, m)
-        rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider, self.start_metrics, m)
+        if m is None:
+            rec = unmeasured_record(self.next_frame, ms, pos)
+        else:
+            self.start_metrics = judged_from(self.start_metrics, m)
+            rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider, self.start_metrics, m)
         # Which backend solved the frame, and why the CPU did when the GPU was asked for (None:
         # the start frame, solved by no step of its own).
         rec["backend"] = None if stats is None else stats.get("backend")

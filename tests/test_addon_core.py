@@ -162,3 +162,20 @@ def test_painted_level_groups_override_the_level_attribute():
     assert painted_levels(base, 5, dict(reversed(list(groups.items())))).tolist() == [3, 2, 3, 3, 1]
     assert base.tolist() == [1] * 5
     assert painted_levels(None, 5, groups).tolist() == [3, 2, 3, 3, 0]
+
+
+def test_fit_map_colours_run_blue_to_red_over_stated_ranges():
+    from tailor_addon.core import fit_maps
+
+    blue, red = fit_maps._RAMP[0], fit_maps._RAMP[-1]
+    c = fit_maps.colours("STRAIN", np.array([0.0, 0.1, 0.2, 0.5, np.nan], np.float32))
+    assert c.shape == (5, 4) and c.dtype == np.float32 and (c[:, 3] == 1).all()
+    assert np.allclose(c[0, :3], blue) and np.allclose(c[2, :3], red) and np.allclose(c[3, :3], red)
+    assert np.allclose(c[4, :3], blue)  # NaN reads as 0, not as a colour that means something
+    # Pressure on a square-root scale: a quarter of the red pressure is half way along.
+    assert fit_maps.unit("PRESSURE", np.array([500.0]))[0] == pytest.approx(0.5)
+    # Distance runs the other way: touching is red, 5 cm off is blue.
+    d = fit_maps.colours("DISTANCE", np.array([0.0, 0.05, 0.2], np.float32))
+    assert np.allclose(d[0, :3], red) and np.allclose(d[1, :3], blue) and np.allclose(d[2, :3], blue)
+    with pytest.raises(ValueError, match="no fit map"):
+        fit_maps.unit("TENSION", np.zeros(1))

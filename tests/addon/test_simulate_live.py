@@ -131,3 +131,33 @@ def test_saving_during_live_keeps_the_pattern_placement_not_the_drape(addon, liv
     finally:
         for me in dst.meshes:
             bpy.data.meshes.remove(me)
+
+
+def test_live_colours_the_pieces_by_a_fit_map(addon, live_scene):
+    # Issue 28: with a Fit Map chosen, Live's measured frames write the three maps as point
+    # attributes on every piece and the chosen one's colours as the active colour attribute.
+    scene, pieces = live_scene["scene"], live_scene["pieces"]
+    fit = addon.core.fit_maps
+    scene.tailor_simulate.fit_map = "PRESSURE"
+    assert bpy.ops.tailor.live_step(count=2, advance=True) == {"FINISHED"}
+    session = addon.simulate.live.SESSIONS[scene.name]
+    assert session.solver.measured is not None and session.solver.measured.fit_maps is not None
+    maps = session.solver.measured.fit_maps
+    offsets = list(session.garment.offsets) + [session.garment.num_particles]
+    for k, o in enumerate(pieces):
+        n = len(o.data.vertices)
+        for key, name in fit.ATTRIBUTES.items():
+            got = np.empty(n, np.float32)
+            o.data.attributes[name].data.foreach_get("value", got)
+            # The piece's share of the garment's map, written as it was measured.
+            assert np.array_equal(got, np.asarray(maps[key], np.float32)[offsets[k]:offsets[k + 1]]), (o.name, key)
+        col = o.data.color_attributes.active_color
+        assert col is not None and col.name == fit.COLOUR_ATTRIBUTE
+        rgba = np.empty(n * 4, np.float32)
+        col.data.foreach_get("color", rgba)
+        pressure = np.asarray(maps["pressure"], np.float32)[offsets[k]:offsets[k + 1]]
+        assert np.allclose(rgba.reshape(-1, 4), fit.colours("PRESSURE", pressure), atol=1e-6)
+    # Two frames in, the shirt is still as placed round the character (Live has no preroll):
+    # nothing far inside, and nothing off the body is pressed.
+    p, d = np.asarray(maps["pressure"]), np.asarray(maps["distance"])
+    assert d.min() > -0.01 and (p >= 0).all() and (p[d > 0.01] == 0).all()

@@ -51,6 +51,7 @@ class LiveResult:
     record: dict  # tailor.bake.frame_record fields (unmeasured_record's between Live's measurements)
     solve_ms: float
     error: BaseException | None = None
+    fit_maps: dict | None = None  # Simulation.fit_maps of the frame, when asked for (measured frames)
 
 
 class LiveSolver:
@@ -75,6 +76,8 @@ class LiveSolver:
         self._result: LiveResult | None = None
         self._stopped = False
         self._stamps: deque[float] = deque(maxlen=32)
+        #: Live's measured frames also carry their fit maps (the add-on's Fit Map overlay).
+        self.fit_maps = False
 
     @property
     def busy(self) -> bool:
@@ -96,7 +99,7 @@ class LiveSolver:
         try:
             for edit in edits:
                 edit(self.run.sim)
-            self._solves = self.run.solves(colliders, measure=measure)
+            self._solves = self.run.solves(colliders, measure=measure, fit_maps=measure and self.fit_maps)
         except Exception as exc:  # handed over by the next poll, which reports it and stops
             self._fail(exc)
             return True
@@ -177,7 +180,8 @@ class LiveSolver:
             self.run.records.clear()
             self.run.frames.append(pos)
         self._solves = None
-        self._result = LiveResult(self._frame, pos, rec, float(rec["ms"]))
+        maps = rec.pop("fit_maps", None)
+        self._result = LiveResult(self._frame, pos, rec, float(rec["ms"]), fit_maps=maps)
         if rec.get("measured", True):
             self.measured = self._result
         self._stamps.append(time.perf_counter())

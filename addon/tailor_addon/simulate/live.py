@@ -22,6 +22,7 @@ import numpy as np
 
 from tailor import bake
 
+from ..core import fit_maps
 from ..core import simulate as core_sim
 from ..core.simulate_live import LiveResult, LiveSolver
 from ..paint.maps import painted_maps
@@ -51,6 +52,7 @@ class LiveSession:
         self.original = [_local_co(o) for o in self.objects]
         self.solver = LiveSolver(bake.Bake(built.sim, built.colliders, self.settings.fps, scene.frame_current,
                                            pins=built.pins))
+        self.fit_map = scene.tailor_simulate.fit_map
         self.ticks = 0
         self.frames_applied = 0
         self.last: LiveResult | None = None
@@ -79,6 +81,8 @@ class LiveSession:
         scene = context.scene
         dg = context.evaluated_depsgraph_get()
         positions = [gather.evaluated_positions(o, dg) for o in self.collider_objects]
+        self.fit_map = scene.tailor_simulate.fit_map
+        self.solver.fit_maps = self.fit_map != "NONE"
         return self.solver.submit(scene.frame_current, positions, self.pending_edits(scene))
 
     def apply(self, res: LiveResult) -> None:
@@ -93,6 +97,28 @@ class LiveSession:
             local = (part.astype(np.float64) @ inv[:3, :3].T + inv[:3, 3]).astype(np.float32)
             gather.write_positions(o.data, local.reshape(-1))
             o.data.update()
+        if res.fit_maps is not None and self.fit_map != "NONE":
+            self._write_fit_maps(res.fit_maps)
+
+    def _write_fit_maps(self, maps: dict) -> None:
+        """A measured frame's fit maps onto the pieces: each map a float point attribute, the
+        chosen one's colours the active colour attribute (`core.fit_maps`)."""
+        n, offsets = self.garment.num_particles, self.garment.offsets
+        parts = {key: [p.ravel() for p in core_sim.split_pieces(np.asarray(v, np.float32)[:, None], offsets, n)]
+                 for key, v in maps.items() if v is not None}
+        shown = fit_maps.KEY[self.fit_map]
+        for k, o in enumerate(self.objects):
+            me = o.data
+            for key, per_piece in parts.items():
+                name = fit_maps.ATTRIBUTES[key]
+                attr = me.attributes.get(name) or me.attributes.new(name, "FLOAT", "POINT")
+                attr.data.foreach_set("value", per_piece[k])
+            if shown in parts:
+                col = me.color_attributes.get(fit_maps.COLOUR_ATTRIBUTE) or me.color_attributes.new(
+                    fit_maps.COLOUR_ATTRIBUTE, "FLOAT_COLOR", "POINT")
+                col.data.foreach_set("color", fit_maps.colours(self.fit_map, parts[shown][k]).reshape(-1))
+                me.color_attributes.active_color = col
+            me.update()
 
     def pending_edits(self, scene) -> list:
         """Edits of fabric, settings and painted maps since the solver last saw them. Each edit

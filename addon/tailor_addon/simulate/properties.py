@@ -15,6 +15,7 @@ from bpy.props import (
 import tailor
 from tailor import bake
 
+from ..core import fit_maps
 from ..core.simulate import PRESETS, preset_values
 from . import garment_choice
 from ..compat import BLEND_RELATIVE_PATH
@@ -183,6 +184,14 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     # Live
     live_running: BoolProperty(name="Live", default=False, options={"SKIP_SAVE"})
     show_overlay: BoolProperty(name="Overlay", description="Draw fps, seam gap, penetrations, strain", default=True)
+    fit_map: EnumProperty(
+        name="Fit Map",
+        description="Colour the pieces by a fit map while Live runs (refreshed a few times a second, with the "
+        "overlay's figures): the maps are written as point attributes tailor_strain, tailor_pressure and "
+        "tailor_distance, the colours as the colour attribute tailor_fit_map (Viewport Shading: Attribute)",
+        items=[("NONE", "None", "No fit map")] + [(i, label, what) for i, label, _key, what in fit_maps.MAPS],
+        default="NONE",
+    )
 
 
 classes = (TailorColliderSettings, TailorSimulateSettings)

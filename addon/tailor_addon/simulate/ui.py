@@ -30,6 +30,7 @@ class TAILOR_PT_simulate(TailorPanel, bpy.types.Panel):
         else:
             row.operator("tailor.live", text="Simulate Live", icon="PLAY")
         layout.prop(s, "show_overlay")
+        layout.prop(s, "fit_map")
         layout.prop(s, "garment_choice")
 
 

@@ -205,6 +205,9 @@ class Simulation:
         static_friction: float = 0.3,
         kinetic_friction: float = 0.2,
     ) -> None: ...
+    def fit_maps_async(self, collider: int | None = None) -> Pending:
+        """`fit_maps` on a native thread (as `step_async`); `finish()` returns its dict."""
+        ...
     def fit_maps(self, collider: int | None = None) -> dict[str, F32 | None]:
         """Per-particle fit maps of the current state, as garment tools show to judge fit:
         ``strain`` (the largest stretch round each particle against its pattern, area-weighted

@@ -304,17 +304,27 @@ class Measure:
     collider: int | None
 
 
+@dataclass(frozen=True)
+class MapFit:
+    """A request of `Bake.solves` (with `fit_maps`): the current state's
+    `Simulation.fit_maps(collider)`, sent back."""
+
+    collider: int | None
+
+
 #: What `Bake.solves` yields, is sent and returns.
-Solves = Generator["Solve | Measure", dict, dict]
+Solves = Generator["Solve | Measure | MapFit", dict, dict]
 
 
-def run_here(sim: Simulation, request: Solve | Measure) -> dict:
+def run_here(sim: Simulation, request: Solve | Measure | MapFit) -> dict:
     """A request of `Bake.solves` computed on this thread."""
     if isinstance(request, Solve):
         stats = sim.step(request.dt, request.frames)
         if request.measure:
             stats["metrics"] = sim.metrics(request.collider)
         return stats
+    if isinstance(request, MapFit):
+        return sim.fit_maps(request.collider)
     return sim.metrics(request.collider)
 
 
@@ -322,6 +332,8 @@ def start_async(sim: Simulation, request: Solve | Measure):
     """A request of `Bake.solves` started on a native thread: a `tailor.Pending`."""
     if isinstance(request, Solve):
         return sim.step_async(request.dt, request.frames, measure=request.measure, collider=request.collider)
+    if isinstance(request, MapFit):
+        return sim.fit_maps_async(request.collider)
     return sim.metrics_async(request.collider)
 
 
@@ -451,7 +463,8 @@ class Bake:
         nothing in that case."""
         return drive(self.solves(collider_positions), self.sim)
 
-    def solves(self, collider_positions: Sequence[np.ndarray], measure: bool = True) -> Solves:
+    def solves(self, collider_positions: Sequence[np.ndarray], measure: bool = True,
+               fit_maps: bool = False) -> Solves:
         """`step` as a generator of the solves and measurements it needs (`Solve`, `Measure`),
         each sent back its result (`drive` runs it on this thread); returns the record.
 
@@ -487,6 +500,8 @@ class Bake:
         # How far the particles resting on a body moved this frame (median): on a still body,
         # the drape's jitter at rest.
         rec["contact_motion_m"] = None if stats is None else stats.get("contact_motion_m")
+        if fit_maps:
+            rec["fit_maps"] = yield MapFit(self.metrics_collider)
         self.frames.append(pos)
         self.records.append(rec)
         return rec

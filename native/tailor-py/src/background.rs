@@ -1,5 +1,6 @@
-//! `Simulation.step_async` and `metrics_async`: a step (or the quality metrics, which cost
-//! more than a step on the samples) computed on a native thread that never touches Python.
+//! `Simulation.step_async`, `metrics_async` and `fit_maps_async`: a step (or the quality metrics,
+//! which cost more than a step on the samples, or the fit maps) computed on a native thread that
+//! never touches Python.
 //!
 //! Why not a Python thread calling `Simulation.step` (which releases the GIL while it solves)?
 //! Inside Blender that thread still takes the GIL to enter and leave the call, and Blender with
@@ -37,11 +38,14 @@ pub enum Work {
     Step { dt: f32, frames: u32, measure: Option<Option<ColliderId>> },
     /// `Simulation.metrics(collider)`.
     Metrics(Option<ColliderId>),
+    /// `Simulation.fit_maps(collider)`.
+    FitMaps(Option<ColliderId>),
 }
 
 enum Done {
     Step(StepStats, Option<QualityMetrics>),
     Metrics(QualityMetrics),
+    FitMaps(tailor_core::quality::fit_maps::FitMaps),
 }
 
 /// What the thread hands back: the solver (None if the work panicked: it is lost, as a panic
@@ -106,6 +110,11 @@ pub fn start(slf: &Bound<'_, Simulation>, work: Work) -> PyResult<Pending> {
             }
             Work::Metrics(collider) => {
                 let m = solver.metrics(collider).map(Done::Metrics);
+                wall_s = t0.elapsed().as_secs_f64();
+                m
+            }
+            Work::FitMaps(collider) => {
+                let m = solver.fit_maps(collider).map(Done::FitMaps);
                 wall_s = t0.elapsed().as_secs_f64();
                 m
             }
@@ -182,6 +191,7 @@ impl Pending {
                     Ok(d)
                 }
                 Done::Metrics(m) => metrics_dict(py, &m),
+                Done::FitMaps(m) => crate::simulation::fit_maps_dict(py, m),
             }
         })
     }

@@ -85,6 +85,16 @@ impl Simulation {
     }
 }
 
+/// The dict of `Simulation.fit_maps`: `strain`, `distance` and `pressure` arrays (the last two
+/// None without a collider).
+pub fn fit_maps_dict(py: Python<'_>, m: tailor_core::quality::fit_maps::FitMaps) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("strain", PyArray1::from_vec(py, m.strain))?;
+    d.set_item("distance", m.distance.map(|v| PyArray1::from_vec(py, v)))?;
+    d.set_item("pressure", m.pressure.map(|v| PyArray1::from_vec(py, v)))?;
+    Ok(d)
+}
+
 /// Seams as `seam_pairs` gives them: name, stiffness, bend_stiffness, and per side the sewn
 /// points as (k, 2) vertex and weight arrays (a vertex has weights (1, 0)).
 pub fn seam_dicts<'py>(py: Python<'py>, seams: &[Seam]) -> PyResult<Vec<Bound<'py, PyDict>>> {
@@ -841,11 +851,16 @@ impl Simulation {
         crate::errors::guard(|| {
             let id = Self::collider_of(slf, collider)?;
             let m = Self::detached(slf, |inner| inner.fit_maps(id))?.map_err(to_py)?;
-            let d = PyDict::new(py);
-            d.set_item("strain", PyArray1::from_vec(py, m.strain))?;
-            d.set_item("distance", m.distance.map(|v| PyArray1::from_vec(py, v)))?;
-            d.set_item("pressure", m.pressure.map(|v| PyArray1::from_vec(py, v)))?;
-            Ok(d)
+            fit_maps_dict(py, m)
+        })
+    }
+
+    /// `fit_maps` on a native thread, as `step_async`.
+    #[pyo3(signature = (collider=None))]
+    fn fit_maps_async(slf: &Bound<'_, Self>, collider: Option<i64>) -> PyResult<crate::background::Pending> {
+        crate::errors::guard(|| {
+            let id = Self::collider_of(slf, collider)?;
+            crate::background::start(slf, crate::background::Work::FitMaps(id))
         })
     }
 

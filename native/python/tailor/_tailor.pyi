@@ -480,6 +480,41 @@ def bend(
     taper_deg: float = 0.0,
 ) -> F32: ...
 
+#: The places `body_places` finds, in its order.
+PLACE_NAMES: list[str]
+
+def body_places(
+    vertices: ArrayLike,
+    triangles_: ArrayLike,
+    up: str | Sequence[float] | None = None,
+    front: str | Sequence[float] | None = None,
+) -> list[dict[str, Any]]:
+    """The arrangement places on a humanoid body (issue 25), found from its shape: dicts
+    {"name", "origin", "axis", "facing", "left", "up", "length", "radius", "reach"} in the order
+    of `PLACE_NAMES`. `up` ("y" when None) and `front` (found from the feet when None): an axis
+    name such as "-z" or a 3-vector. A body that is not a standing humanoid is an
+    InvalidMeshError naming the part not found."""
+
+def place_on_body(
+    rest: ArrayLike,
+    place: dict[str, Any],
+    clearance: float = 0.03,
+    side: str = "centre",
+    around_deg: float = 0.0,
+    along: str | None = None,
+    offset: float = 0.0,
+    min_radius: float = 0.0,
+) -> dict[str, Any]:
+    """The flat piece `rest` ((n, 2), metres) put on `place` (a `body_places` dict): its
+    vertical ("vertical") or longest ("longest"; the default on arms and legs) direction along
+    the place's axis, `side` "centre", "left" or "right" of the centre line (a half's inner edge
+    on it), turned `around_deg` about the axis, `clearance` metres off the body and rolled round
+    the axis with the isometric bend. Returns {"positions": (n, 3), "radius", "bend"}."""
+
+def suggest_place(name: str, shape: ArrayLike) -> dict[str, Any]:
+    """Where a piece called `name` with 2D `shape` goes: {"place", "side", "around_deg",
+    "along"}, the keywords of `place_on_body`."""
+
 class WeldedMesh:
     """Sewn pieces merged into one mesh (`weld`, `Garment.welded`)."""
 

@@ -31,6 +31,11 @@ pub enum TailorError {
     #[error("non-manifold mesh: edge ({a}, {b}) is shared by {count} triangles (at most 2 allowed)")]
     NonManifold { a: u32, b: u32, count: usize },
 
+    /// A mesh taken for a character's body is not one of a standing humanoid where a part was
+    /// looked for (arrangement round the body: legs, arms, neck).
+    #[error("not a standing humanoid: {part}: {reason}")]
+    NotABody { part: String, reason: String },
+
     /// A particle mass (or mass scale) is zero, negative or not finite.
     #[error("particle {particle} has invalid mass {mass}: masses must be positive and finite")]
     InvalidMass { particle: usize, mass: f32 },
@@ -96,6 +101,11 @@ impl TailorError {
     /// Shorthand for [`TailorError::InvalidSetting`].
     pub fn setting(name: &'static str, value: impl ToString, reason: impl Into<String>) -> Self {
         TailorError::InvalidSetting { name, value: value.to_string(), reason: reason.into() }
+    }
+
+    /// Shorthand for [`TailorError::NotABody`].
+    pub fn not_a_body(part: impl Into<String>, reason: impl Into<String>) -> Self {
+        TailorError::NotABody { part: part.into(), reason: reason.into() }
     }
 
     /// Shorthand for [`TailorError::Parse`].

@@ -16,6 +16,8 @@
 //! * [`seam`]: resolution-independent seams between contours, the paper's picking steps, corner
 //!   suggestions, and the sewn pairs and hinges the solver consumes.
 //! * [`bend`]: wrapping a placed piece around an axis before simulation (paper Fig. 4).
+//! * [`arrange`]: named places found on a humanoid body from its shape, and pieces put on them,
+//!   facing the body at a clearance and rolled round it (issue 25).
 //! * [`playback`]: the frame rate and frame count of a run, checked once for every caller.
 //! * [`placement`]: initial 3D positions from a pattern's placement, or a flat layout.
 //! * [`scenes`]: procedural scenes (rectangles, a sewn tube) for tests, benchmarks and the demo.
@@ -42,6 +44,7 @@
 //! Layers, from the bottom: `collision` < `quality` < `solver` < `gpu` < `engine`; a module
 //! imports only those below it (`tests/layers.rs` checks it, with the order inside `solver`).
 
+pub mod arrange;
 pub mod bend;
 pub mod collision;
 pub mod engine;

@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! TailorError(Exception)
-//! ├── InvalidMeshError(TailorError, ValueError)   empty, out-of-range, degenerate, non-manifold, NaN
+//! ├── InvalidMeshError(TailorError, ValueError)   empty, out-of-range, degenerate, non-manifold, NaN, not a body
 //! ├── InvalidParameterError(TailorError, ValueError)  masses, settings, shape mismatches
 //! ├── SeamError(TailorError, ValueError)
 //! ├── PatternError(TailorError, ValueError)        a file could not be read or is unsupported
@@ -104,7 +104,8 @@ pub fn to_py(err: CoreError) -> PyErr {
             | CoreError::IndexOutOfRange { .. }
             | CoreError::NonFinite { .. }
             | CoreError::DegenerateTriangle { .. }
-            | CoreError::NonManifold { .. } => InvalidMeshError::type_object(py),
+            | CoreError::NonManifold { .. }
+            | CoreError::NotABody { .. } => InvalidMeshError::type_object(py),
             CoreError::InvalidMass { .. } | CoreError::ShapeMismatch { .. } | CoreError::InvalidSetting { .. } => {
                 InvalidParameterError::type_object(py)
             }

@@ -557,7 +557,7 @@ fn placement_from(d: &Bound<'_, PyDict>) -> PyResult<Placement> {
 }
 
 /// A bend as `bend_from` reads it back.
-fn bend_dict<'py>(py: Python<'py>, b: &BendParams) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn bend_dict<'py>(py: Python<'py>, b: &BendParams) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("axis_point", b.axis_point.to_vec())?;
     d.set_item("axis_direction", b.axis_direction.to_vec())?;

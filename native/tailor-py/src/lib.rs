@@ -4,6 +4,7 @@
 //! becomes one typed Python exception (see [`errors`]). Nothing here holds physics or geometry
 //! logic: each function converts its arguments, calls the core, and converts the result.
 
+mod arrange;
 mod background;
 mod colliders;
 mod contour;
@@ -63,6 +64,7 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     contour::register(m)?;
     m.add_class::<seams::Seam>()?;
     garment::register(m)?;
+    arrange::register(m)?;
     weld::register(m)?;
     files::register(m)?;
     Ok(())

@@ -1,0 +1,149 @@
+"""Issue 25: arrangement round the body. Places found on the GarmentCode mean body from its shape
+(`tailor.body_places`), pieces put on them (`tailor.place_on_body`), and the GarmentCode shirt
+with its own placements replaced by the automatic arrangement (`tailor.arrange.arrange_garment`:
+pieces assigned to places by their names) assembling on the body with default settings.
+
+Measured (2026-11-27, `tailor simulate` 60 frames, CPU): the arranged shirt closes its seams by
+frame 30 (0.26 mm at frame 60; GarmentCode's own placement 0.34 mm), nothing inside the body, all
+of it on the body, and every piece ends within 2.5 cm (centroid) of where the shirt placed by
+GarmentCode ends.
+"""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tailor
+from tailor.arrange import arrange_garment
+
+REPO = Path(__file__).resolve().parents[1]
+BODY = REPO / "sample_blends/sources/mean_all.obj"
+SHIRT = REPO / "native/tailor-core/tests/data/garmentcode/shirt_mean_specification.json"
+FRAMES = 60  # as tests/test_assembly.py: the seams meet by frame 30, then a second on the body
+
+
+@pytest.fixture(scope="module")
+def body():
+    return tailor.read_mesh(str(BODY))
+
+
+@pytest.fixture(scope="module")
+def places(body):
+    return {p["name"]: p for p in tailor.body_places(*body, up="y")}
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, "-m", "tailor", *map(str, args)], capture_output=True, text=True)
+
+
+def test_the_places_are_where_the_body_parts_are(places):
+    assert list(places) == list(tailor.PLACE_NAMES)
+    front, back = places["torso_front"], places["torso_back"]
+    # Facing +z (found from the feet), down the torso from the neck's base, round its middle.
+    assert front["facing"][2] > 0.95 and back["facing"][2] < -0.95
+    assert 1.40 < front["origin"][1] < 1.48 and abs(front["origin"][0]) < 0.02
+    assert 0.95 < places["waist"]["origin"][1] < 1.15
+    for side, sign in (("left", 1), ("right", -1)):
+        arm, leg = places[f"{side}_arm"], places[f"{side}_leg"]
+        assert arm["axis"][0] * sign > 0.6 and arm["axis"][1] < -0.5, arm["axis"]
+        assert 0.12 < arm["origin"][0] * sign < 0.30
+        assert leg["axis"][1] < -0.98 and 0.04 < leg["origin"][0] * sign < 0.14
+    assert front["reach"]["values"].shape[1] == 36
+
+
+def test_a_placed_piece_keeps_its_lengths_and_clears_the_body(body, places):
+    mesh = tailor.Garment.from_pattern(str(SHIRT), edge=0.02).meshes()[5]  # left_ftorso
+    assert mesh.name == "left_ftorso"
+    placed = tailor.place_on_body(mesh.rest, places["torso_front"], clearance=0.03, side="left")
+    p, r = placed["positions"], mesh.rest
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        i, j = mesh.triangles[:, a], mesh.triangles[:, b]
+        rest_len = np.linalg.norm(r[i] - r[j], axis=1)
+        change = np.abs(np.linalg.norm(p[i] - p[j], axis=1) - rest_len) / rest_len
+        assert change.max() < 1e-3, change.max()
+    assert tailor.penetration(p, *body)["count"] == 0
+    # On the character's left, in front, its top at the neck's base.
+    assert p[:, 0].min() > -0.01 and p[:, 2].min() > 0.05
+    assert abs(p[:, 1].max() - places["torso_front"]["origin"][1]) < 0.01
+    assert placed["bend"]["mode"] == "roll" and placed["radius"] > places["torso_front"]["radius"]
+
+
+def test_names_say_where_the_pieces_go():
+    square = np.array([[0, 0], [0.3, 0], [0.3, 0.4], [0, 0.4]], dtype=np.float32)
+    expect = {
+        "left_ftorso": ("torso_front", "left", 0.0),
+        "right_btorso": ("torso_back", "right", 0.0),
+        "left_sleeve_f": ("left_arm", "centre", 0.0),
+        "right_sleeve_b": ("right_arm", "centre", 180.0),
+        "pant_b_l": ("left_leg", "centre", 180.0),
+        "skirt_front": ("waist", "centre", 0.0),
+    }
+    for name, want in expect.items():
+        s = tailor.suggest_place(name, square)
+        assert (s["place"], s["side"], s["around_deg"]) == want, name
+
+
+def test_bad_input_is_a_typed_error(places):
+    cube_v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.float32)
+    cube_t = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                       [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]], dtype=np.uint32)
+    with pytest.raises(tailor.InvalidMeshError, match="not a standing humanoid"):
+        tailor.body_places(cube_v, cube_t)
+    with pytest.raises(tailor.InvalidParameterError, match="up"):
+        tailor.body_places(cube_v, cube_t, up="w")
+    square = np.array([[0, 0], [0.3, 0], [0.3, 0.4], [0, 0.4]], dtype=np.float32)
+    broken = dict(places["torso_front"])
+    del broken["axis"]
+    with pytest.raises(tailor.InvalidParameterError, match="axis"):
+        tailor.place_on_body(square, broken)
+    with pytest.raises(tailor.InvalidParameterError, match="side"):
+        tailor.place_on_body(square, places["torso_front"], side="middle")
+    with pytest.raises(tailor.InvalidParameterError, match="clearance"):
+        tailor.place_on_body(square, places["torso_front"], clearance=-1.0)
+
+
+def test_the_shirt_arranged_automatically_assembles_on_the_body(body, places, tmp_path):
+    """No manual placement: the shirt's GarmentCode placements are dropped, each piece goes
+    where its name says, and `tailor simulate` with default settings judges the result."""
+    garment = tailor.Garment.from_pattern(str(SHIRT), edge=0.02)
+    arranged, plan = arrange_garment(garment, *body, places=list(places.values()))
+    assert all(p is None for p in arranged.placements)
+    assert {e["name"]: e["place"] for e in plan} == {
+        "left_ftorso": "torso_front", "right_ftorso": "torso_front",
+        "left_btorso": "torso_back", "right_btorso": "torso_back",
+        "left_sleeve_f": "left_arm", "left_sleeve_b": "left_arm",
+        "right_sleeve_f": "right_arm", "right_sleeve_b": "right_arm",
+    }
+    path, report, cache = tmp_path / "shirt.json", tmp_path / "report.json", tmp_path / "cloth.pc2"
+    arranged.save(str(path))
+    start = arranged.build_simulation()[0].positions
+    placed_by_garmentcode = garment.build_simulation()[0].positions
+    assert np.linalg.norm(start - placed_by_garmentcode, axis=1).min() > 0.005  # not GarmentCode's placement
+    assert tailor.penetration(start, *body)["count"] == 0
+
+    r = cli("simulate", path, "--collider", BODY, "--frames", FRAMES, "--report", report, "-o", cache)
+    rep = json.loads(report.read_text())
+    s, last = rep["summary"], rep["frames"][-1]
+    print(f"arranged shirt: exit {r.returncode}, verdict {s['verdict']}, seam gap {last['seam_gap_max_m'] * 1e3:.2f} mm, "
+          f"inside {last['penetration_count']}, on body {last['on_body_fraction']:.2f}")
+    assert r.returncode == 0 and s["verdict"] == [], (r.returncode, s["verdict"], r.stdout[-1500:])
+    assert last["penetration_count"] == 0 and not s["nan"], last
+    assert last["seam_gap_max_m"] < 1e-3, last
+    assert last["on_body_fraction"] > 0.95, last
+
+    # Worn as the GarmentCode placement wears it: each piece ends near where that one does.
+    base, base_report, base_cache = tmp_path / "base.json", tmp_path / "base_report.json", tmp_path / "base.pc2"
+    garment.save(str(base))
+    assert cli("simulate", base, "--collider", BODY, "--frames", FRAMES, "--report", base_report,
+               "-o", base_cache).returncode == 0
+    ours, theirs = tailor.read_pc2(str(cache))["frames"][-1], tailor.read_pc2(str(base_cache))["frames"][-1]
+    offset = 0
+    for piece, mesh in zip(garment.pieces, garment.meshes()):
+        n = len(mesh.rest)
+        shift = np.linalg.norm(ours[offset:offset + n].mean(0) - theirs[offset:offset + n].mean(0))
+        assert shift < 0.05, (piece.name, shift)
+        offset += n

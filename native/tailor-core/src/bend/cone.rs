@@ -101,21 +101,7 @@ mod tests {
                 rest.push([(-half + 2.0 * half * i as f64 / (nx - 1) as f64) as f32, y as f32]);
             }
         }
-        let mut edges = Vec::new();
-        for j in 0..ny {
-            for i in 0..nx {
-                let v = j * nx + i;
-                if i + 1 < nx {
-                    edges.push([v, v + 1]);
-                }
-                if j + 1 < ny {
-                    edges.push([v, v + nx]);
-                    if i + 1 < nx {
-                        edges.push([v, v + nx + 1]);
-                    }
-                }
-            }
-        }
+        let edges = super::super::tests::grid_edges(nx, ny);
         (rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest, edges)
     }
 

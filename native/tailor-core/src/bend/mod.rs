@@ -159,6 +159,27 @@ mod tests {
 
     /// The bends the tests of both modes use: an axis along y, 10 cm below a sheet in z = 0,
     /// symmetric about the rest line x = 0 when asked.
+    /// The edges of a grid of `nx × ny` vertices (row by row) cut into triangles along one
+    /// diagonal: its rows, columns and diagonals, for the bends' length tests.
+    pub(super) fn grid_edges(nx: usize, ny: usize) -> Vec<[usize; 2]> {
+        let mut edges = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let v = j * nx + i;
+                if i + 1 < nx {
+                    edges.push([v, v + 1]);
+                }
+                if j + 1 < ny {
+                    edges.push([v, v + nx]);
+                }
+                if i + 1 < nx && j + 1 < ny {
+                    edges.push([v, v + nx + 1]);
+                }
+            }
+        }
+        edges
+    }
+
     pub(super) fn sheet_params(angle: f64, symmetric: bool, threshold: f64, mode: BendMode) -> BendParams {
         BendParams {
             axis_point: [0.0, 0.0, -0.1],

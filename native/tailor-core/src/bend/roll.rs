@@ -226,21 +226,7 @@ mod tests {
                 rest.push([i as f32 * 0.4 / (nx - 1) as f32 - 0.2, j as f32 * 0.3 / (ny - 1) as f32]);
             }
         }
-        let mut edges = Vec::new();
-        for j in 0..ny {
-            for i in 0..nx {
-                let v = j * nx + i;
-                if i + 1 < nx {
-                    edges.push([v, v + 1]);
-                }
-                if j + 1 < ny {
-                    edges.push([v, v + nx]);
-                }
-                if i + 1 < nx && j + 1 < ny {
-                    edges.push([v, v + nx + 1]);
-                }
-            }
-        }
+        let edges = super::super::tests::grid_edges(nx, ny);
         (rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest, edges)
     }
 

@@ -28,9 +28,9 @@ bl_info = {
 def _features():
     """The feature packages in registration order (seams first: they own `Scene.tailor`, which
     the pattern importer fills). Panels are ordered by their `bl_order`."""
-    from . import bend, menu, paint, patterns, preferences, seams, simulate
+    from . import arrange, bend, menu, paint, patterns, preferences, seams, simulate
 
-    return (preferences, seams, patterns, bend, paint, simulate, menu)
+    return (preferences, seams, patterns, arrange, bend, paint, simulate, menu)
 
 
 def register() -> None:

@@ -47,5 +47,5 @@ def test_operators_have_tooltips_undo_and_a_menu_entry(addon):
 
 def test_panels_in_the_tailor_tab_in_workflow_order(addon):
     panels = sorted(addon_classes(addon, bpy.types.Panel), key=lambda p: p.bl_order)
-    assert [p.bl_label for p in panels][:4] == ["Patterns", "Seams", "Bend", "Paint"]
+    assert [p.bl_label for p in panels][:5] == ["Patterns", "Seams", "Arrange", "Bend", "Paint"]
     assert all(p.bl_category == "Tailor" and p.bl_space_type == "VIEW_3D" for p in panels)

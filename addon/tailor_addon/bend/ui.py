@@ -11,7 +11,7 @@ from ..ui_common import TailorPanel
 class TAILOR_PT_bend(TailorPanel, bpy.types.Panel):
     bl_idname = "TAILOR_PT_bend"
     bl_label = "Bend"
-    bl_order = 2
+    bl_order = 3
 
     def draw(self, context):
         layout = self.layout

@@ -11,7 +11,7 @@ from . import maps
 class TAILOR_PT_paint(TailorPanel, bpy.types.Panel):
     bl_idname = "TAILOR_PT_paint"
     bl_label = "Paint"
-    bl_order = 3
+    bl_order = 4
 
     def draw(self, context):
         layout = self.layout

@@ -1,9 +1,11 @@
 """Per-piece data kept on the piece object (`Object.tailor_piece`); see docs/addon.md."""
 
 import bpy
-from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
 import tailor
+
+from ..core.arrange import AUTO, place_items
 
 _DEFAULT = tailor.Fabric()
 
@@ -66,6 +68,16 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
     # The roll's cylinder radius (0: from the angle) and cone half-angle (0: a cylinder).
     bend_radius: FloatProperty(name="Bend Radius", subtype="DISTANCE", unit="LENGTH", min=0.0, default=0.0)
     bend_taper: FloatProperty(name="Bend Taper", subtype="ANGLE", default=0.0)
+    # Where Arrange on Body puts the piece (`core.arrange`): AUTO, the place its name and shape
+    # suggest, or one of the body's places (`tailor.PLACE_NAMES`) the artist chose.
+    place: EnumProperty(
+        name="Place",
+        description="Where Arrange on Body puts this piece on the collider body",
+        items=place_items(),
+        default=AUTO,
+    )
+    # The place the last Arrange on Body put the piece on ("" before); the panel shows it.
+    arranged_place: StringProperty(name="Arranged On", options={"HIDDEN"})
 
 
 classes = (TailorPieceSettings,)

@@ -1,0 +1,147 @@
+"""Arrange on Body (issue 25), bpy-free: each piece put on a place of the collider body.
+
+The add-on's counterpart of `tailor.arrange.arrange_garment` for pieces read out of a scene:
+the body's places (`tailor.body_places`), a plan (per piece `tailor.suggest_place` of its name
+and rest shape, or the place the artist chose, `AUTO` meaning the suggestion), the pieces put on
+their places (`tailor.place_on_body`), and the pieces round one axis (the torso's front and
+back, an arm's halves) rolled to the largest of their radii so the seams between them start
+level, as the module's `arrange_garment` does. The positions come back in the body's frame
+(world space in the add-on); the Blender layer writes them into the piece meshes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+
+import tailor
+
+from .errors import AddonError
+
+#: The piece setting's value for "the place `tailor.suggest_place` gives".
+AUTO = "AUTO"
+#: The module's default clearance (`tailor.place_on_body`, `arrange_garment`), metres.
+CLEARANCE = 0.03
+
+_LABELS = {
+    "torso_front": ("Torso Front", "The front of the torso, from the neck down"),
+    "torso_back": ("Torso Back", "The back of the torso, from the neck down"),
+    "waist": ("Waist", "Round the waist, from the waist down (skirts, waistbands)"),
+    "left_arm": ("Left Arm", "Along the body's left arm, from the shoulder"),
+    "right_arm": ("Right Arm", "Along the body's right arm, from the shoulder"),
+    "left_leg": ("Left Leg", "Along the body's left leg, from the waist"),
+    "right_leg": ("Right Leg", "Along the body's right leg, from the waist"),
+}
+
+
+def place_items() -> list[tuple[str, str, str]]:
+    """EnumProperty items: AUTO, then every `tailor.PLACE_NAMES` entry (its identifier is the
+    module's name)."""
+    items = [(AUTO, "Auto", "The place the piece's name and shape suggest (tailor.suggest_place)")]
+    for name in tailor.PLACE_NAMES:
+        label, desc = _LABELS.get(name, (name.replace("_", " ").title(), f"The body's place '{name}'"))
+        items.append((name, label, desc))
+    return items
+
+
+@dataclass
+class ArrangedPiece:
+    """Where one piece went: its plan entry (place, side, around_deg, along, radius) and its
+    positions ((n, 3), the body's frame)."""
+
+    name: str
+    entry: dict[str, Any]
+    positions: np.ndarray
+
+
+def _axis_of(place: str) -> str:
+    return "torso" if place in ("torso_front", "torso_back") else place
+
+
+def plan_entry(name: str, rest: np.ndarray, choice: str = AUTO) -> dict[str, Any]:
+    """Where piece `name` with rest shape `rest` goes: `tailor.suggest_place`, or with `choice`
+    (a place name) that place. A chosen place keeps the suggestion's turn round the axis (a
+    back half stays at the back); a chosen limb takes the piece's longest direction along it
+    and no half side, a chosen torso or waist place the suggestion's side (the half's)."""
+    entry = dict(tailor.suggest_place(name, np.asarray(rest, np.float32)))
+    if choice and choice != AUTO and choice != entry["place"]:
+        if choice not in tailor.PLACE_NAMES:
+            raise AddonError(f"piece '{name}': no place '{choice}'", f"Pick one of {', '.join(tailor.PLACE_NAMES)}")
+        limb = choice.endswith(("_arm", "_leg"))
+        entry["place"] = choice
+        entry["along"] = "longest" if limb else "vertical"
+        if limb:
+            entry["side"] = "centre"
+    entry["name"] = name
+    return entry
+
+
+def find_places(vertices, triangles, body: str = "the collider", up: str = "z") -> list[dict[str, Any]]:
+    """`tailor.body_places` of a body mesh (world space, Z up in Blender), its failure (not a
+    standing humanoid) an `AddonError` naming `body` and saying what to do."""
+    v = np.ascontiguousarray(vertices, np.float32).reshape(-1, 3)
+    t = np.ascontiguousarray(triangles, np.int32).reshape(-1, 3)
+    if len(v) == 0 or len(t) == 0:
+        raise AddonError(f"the collider '{body}' has no faces", "Mark a body mesh as the collider")
+    try:
+        return tailor.body_places(v, t, up=up)
+    except tailor.InvalidMeshError as exc:
+        raise AddonError(
+            f"the collider '{body}' is {str(exc).strip().rstrip('.')}",
+            "Mark a standing humanoid body (Z up, feet on the ground) as the collider",
+        ) from exc
+
+
+def arrange(
+    names: Sequence[str],
+    rests: Sequence[np.ndarray],
+    places: Sequence[dict[str, Any]],
+    choices: Sequence[str] | None = None,
+    clearance: float = CLEARANCE,
+) -> list[ArrangedPiece]:
+    """Every piece (`names[i]`, rest shape `rests[i]`, (n, 2) metres, the place `choices[i]` or
+    AUTO) put on its place of `places` (`find_places`), `clearance` metres off the body."""
+    by_name = {p["name"]: p for p in places}
+    choices = list(choices) if choices is not None else [AUTO] * len(names)
+    plan = [plan_entry(n, r, c) for n, r, c in zip(names, rests, choices)]
+    for e in plan:
+        if e["place"] not in by_name:
+            raise AddonError(f"piece '{e['name']}': the body has no place '{e['place']}'", "Choose another place")
+    keys = ("side", "around_deg", "along")
+
+    def put(rest, e, min_radius=0.0):
+        opts = {k: e[k] for k in keys if k in e}
+        return tailor.place_on_body(
+            np.asarray(rest, np.float32), by_name[e["place"]], clearance=clearance, min_radius=min_radius, **opts
+        )
+
+    placed = [put(r, e) for r, e in zip(rests, plan)]
+    radius: dict[str, float] = {}
+    for e, p in zip(plan, placed):
+        radius[_axis_of(e["place"])] = max(radius.get(_axis_of(e["place"]), 0.0), p["radius"])
+    out = []
+    for i, (r, e) in enumerate(zip(rests, plan)):
+        big = radius[_axis_of(e["place"])]
+        if big > placed[i]["radius"]:
+            placed[i] = put(r, e, big)
+        e["radius"] = float(placed[i]["radius"])
+        out.append(ArrangedPiece(e["name"], e, np.asarray(placed[i]["positions"], np.float32)))
+    return out
+
+
+def to_local(world: np.ndarray, matrix_world) -> np.ndarray:
+    """(n, 3) world points into an object's local frame (`matrix_world`: 4x4, any invertible)."""
+    m = np.linalg.inv(np.asarray(matrix_world, np.float64))
+    w = np.asarray(world, np.float64)
+    return (w @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
+
+
+def axis_lines(places: Sequence[dict[str, Any]], length_scale: float = 1.0) -> dict[str, np.ndarray]:
+    """Per place, a segment along its axis ((2, 3): origin, origin + axis * length) for drawing."""
+    out = {}
+    for p in places:
+        o, a = np.asarray(p["origin"], np.float64), np.asarray(p["axis"], np.float64)
+        out[p["name"]] = np.array([o, o + a * float(p["length"]) * length_scale], np.float32)
+    return out

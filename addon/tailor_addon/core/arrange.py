@@ -2,10 +2,9 @@
 
 The add-on's counterpart of `tailor.arrange.arrange_garment` for pieces read out of a scene:
 the body's places (`tailor.body_places`), a plan (per piece `tailor.suggest_place` of its name
-and rest shape, or the place the artist chose, `AUTO` meaning the suggestion), the pieces put on
-their places (`tailor.place_on_body`), and the pieces round one axis (the torso's front and
-back, an arm's halves) rolled to the largest of their radii so the seams between them start
-level, as the module's `arrange_garment` does. The positions come back in the body's frame
+and rest shape, or the place the artist chose, `AUTO` meaning the suggestion), and the pieces
+put on their places by the module's own rule (`tailor.arrange.place_pieces`: the pieces round
+one axis rolled to the largest of their radii), as its `arrange_garment` does. The positions come back in the body's frame
 (world space in the add-on); the Blender layer writes them into the piece meshes.
 """
 
@@ -17,6 +16,7 @@ from typing import Any, Sequence
 import numpy as np
 
 import tailor
+from tailor.arrange import place_pieces
 
 from .errors import AddonError
 
@@ -54,10 +54,6 @@ class ArrangedPiece:
     name: str
     entry: dict[str, Any]
     positions: np.ndarray
-
-
-def _axis_of(place: str) -> str:
-    return "torso" if place in ("torso_front", "torso_back") else place
 
 
 def plan_entry(name: str, rest: np.ndarray, choice: str = AUTO) -> dict[str, Any]:
@@ -103,32 +99,15 @@ def arrange(
 ) -> list[ArrangedPiece]:
     """Every piece (`names[i]`, rest shape `rests[i]`, (n, 2) metres, the place `choices[i]` or
     AUTO) put on its place of `places` (`find_places`), `clearance` metres off the body."""
-    by_name = {p["name"]: p for p in places}
+    names_of = {p["name"] for p in places}
     choices = list(choices) if choices is not None else [AUTO] * len(names)
     plan = [plan_entry(n, r, c) for n, r, c in zip(names, rests, choices)]
     for e in plan:
-        if e["place"] not in by_name:
+        if e["place"] not in names_of:
             raise AddonError(f"piece '{e['name']}': the body has no place '{e['place']}'", "Choose another place")
-    keys = ("side", "around_deg", "along")
-
-    def put(rest, e, min_radius=0.0):
-        opts = {k: e[k] for k in keys if k in e}
-        return tailor.place_on_body(
-            np.asarray(rest, np.float32), by_name[e["place"]], clearance=clearance, min_radius=min_radius, **opts
-        )
-
-    placed = [put(r, e) for r, e in zip(rests, plan)]
-    radius: dict[str, float] = {}
-    for e, p in zip(plan, placed):
-        radius[_axis_of(e["place"])] = max(radius.get(_axis_of(e["place"]), 0.0), p["radius"])
-    out = []
-    for i, (r, e) in enumerate(zip(rests, plan)):
-        big = radius[_axis_of(e["place"])]
-        if big > placed[i]["radius"]:
-            placed[i] = put(r, e, big)
-        e["radius"] = float(placed[i]["radius"])
-        out.append(ArrangedPiece(e["name"], e, np.asarray(placed[i]["positions"], np.float32)))
-    return out
+    # The module's rule (the same-axis pieces on one radius), as `arrange_garment` applies it.
+    placed = place_pieces([np.asarray(r, np.float32) for r in rests], plan, places, clearance)
+    return [ArrangedPiece(e["name"], e, np.asarray(p["positions"], np.float32)) for e, p in zip(plan, placed)]
 
 
 def to_local(world: np.ndarray, matrix_world) -> np.ndarray:

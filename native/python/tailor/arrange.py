@@ -48,6 +48,38 @@ def _options(entry: Mapping[str, Any]) -> dict[str, Any]:
     return {k: entry[k] for k in keys if k in entry}
 
 
+def place_pieces(
+    rests: Sequence[Any],
+    plan: Sequence[dict[str, Any]],
+    places: Sequence[dict[str, Any]],
+    clearance: float = 0.03,
+) -> list[dict[str, Any]]:
+    """Each piece (rest shape ``rests[i]``) put on its place ``plan[i]["place"]`` of ``places``
+    (``tailor.place_on_body`` with the entry's side, turn, direction and offset): the pieces
+    round one axis (the torso's front and back, an arm's halves) are placed again on the largest
+    of their radii, so that they lie on one cylinder and the seams between them start level.
+    Sets each entry's ``radius``; returns ``place_on_body``'s results. The one rule of
+    ``arrange_garment`` and the add-on's Arrange on Body."""
+    by_name = {p["name"]: p for p in places}
+    for entry in plan:
+        if entry["place"] not in by_name:
+            raise tailor.InvalidParameterError(
+                f"piece {entry['name']!r}: no place {entry['place']!r} (places: {sorted(by_name)})"
+            )
+    placed = [
+        tailor.place_on_body(r, by_name[e["place"]], clearance=clearance, **_options(e)) for r, e in zip(rests, plan)
+    ]
+    groups: dict[str, float] = {}
+    for e, p in zip(plan, placed):
+        groups[_axis_of(e["place"])] = max(groups.get(_axis_of(e["place"]), 0.0), p["radius"])
+    for i, (r, e) in enumerate(zip(rests, plan)):
+        big = groups[_axis_of(e["place"])]
+        if big > placed[i]["radius"]:
+            placed[i] = tailor.place_on_body(r, by_name[e["place"]], clearance=clearance, min_radius=big, **_options(e))
+        e["radius"] = placed[i]["radius"]
+    return placed
+
+
 def arrange_garment(
     garment: tailor.Garment,
     body_vertices: Any,
@@ -63,30 +95,8 @@ def arrange_garment(
     the body's places when already found (``tailor.body_places``)."""
     if places is None:
         places = tailor.body_places(body_vertices, body_triangles, up=up, front=front)
-    by_name = {p["name"]: p for p in places}
     plan = plan_arrangement(garment, assign)
-    meshes = garment.meshes()
-    for entry in plan:
-        if entry["place"] not in by_name:
-            raise tailor.InvalidParameterError(
-                f"piece {entry['name']!r}: no place {entry['place']!r} (places: {sorted(by_name)})"
-            )
-    placed = [
-        tailor.place_on_body(m.rest, by_name[e["place"]], clearance=clearance, **_options(e))
-        for m, e in zip(meshes, plan)
-    ]
-    # Pieces round one axis (the torso's front and back, an arm's halves): one cylinder, the
-    # largest radius, so that the seams between them start level.
-    groups: dict[str, float] = {}
-    for e, p in zip(plan, placed):
-        groups[_axis_of(e["place"])] = max(groups.get(_axis_of(e["place"]), 0.0), p["radius"])
-    for i, (m, e) in enumerate(zip(meshes, plan)):
-        r = groups[_axis_of(e["place"])]
-        if r > placed[i]["radius"]:
-            placed[i] = tailor.place_on_body(
-                m.rest, by_name[e["place"]], clearance=clearance, min_radius=r, **_options(e)
-            )
-        e["radius"] = placed[i]["radius"]
+    placed = place_pieces([m.rest for m in garment.meshes()], plan, places, clearance)
     # The pattern's own placements are dropped: the positions are the arrangement.
     pieces = []
     for piece in garment.pieces:

@@ -387,6 +387,46 @@ def test_usd_and_obj_outputs_are_the_welded_garment_with_uvs(tmp_path):
     assert r.returncode == 2 and ".usda" in r.stderr, r.stderr
 
 
+
+def test_usd_carries_normals_and_with_maps_the_fit_maps(tmp_path):
+    """`--usd` samples unit vertex normals with the points (facing as the welded triangles
+    wind); with `--maps` too, each fit map is a time-sampled per-point primvar
+    (`tailor_strain`, `tailor_pressure`, `tailor_distance`), the .npz's particles welded."""
+    from pxr import Usd, UsdGeom
+
+    from tailor.usd import vertex_normals
+
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.06", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
+    usd, maps = tmp_path / "skirt.usda", tmp_path / "maps.npz"
+    r = cli("simulate", garment, "--collider", body, "--frames", "3", "--report", tmp_path / "r.json",
+            "--usd", usd, "--maps", maps, "--preset", "preview")
+    assert r.returncode in (0, 3), r.stderr
+    stage = Usd.Stage.Open(str(usd))  # kept: a prim is valid while its stage lives
+    mesh = UsdGeom.Mesh(stage.GetPrimAtPath("/Garment/skirt"))
+    assert mesh.GetNormalsInterpolation() == UsdGeom.Tokens.vertex
+    normals, points = mesh.GetNormalsAttr(), mesh.GetPointsAttr()
+    assert normals.GetTimeSamples() == [1.0, 2.0, 3.0]
+    faces = np.array(mesh.GetFaceVertexIndicesAttr().Get()).reshape(-1, 3)
+    n, p = np.array(normals.Get(3)), np.array(points.Get(3))
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-5)
+    np.testing.assert_allclose(n, vertex_normals(p, faces), atol=1e-6)
+    face = np.cross(p[faces[:, 1]] - p[faces[:, 0]], p[faces[:, 2]] - p[faces[:, 0]])
+    assert (np.einsum("ij,ij->i", face, n[faces[:, 0]]) > 0).mean() > 0.95  # they face as the triangles wind
+    z = np.load(maps)
+    g = tailor.Garment.load(garment)
+    sim, _ = g.build_simulation()
+    w = tailor.weld(sim.positions, sim.triangles, sim.seam_pairs())
+    api = UsdGeom.PrimvarsAPI(mesh)
+    for key in ("strain", "pressure", "distance"):
+        pv = api.GetPrimvar(f"tailor_{key}")
+        assert pv.GetInterpolation() == UsdGeom.Tokens.vertex and pv.GetAttr().GetTimeSamples() == [1.0, 2.0, 3.0]
+        want = w.apply(np.repeat(z[key][2][:, None], 3, axis=1))[:, 0]
+        np.testing.assert_allclose(np.array(pv.Get(3)), want, rtol=1e-6, atol=1e-7)
+
+
 def test_a_collider_with_another_up_axis_is_turned_into_the_garments(tmp_path):
     """A garment file that states its up axis (`setup["up"]`) and a collider with the other one:
     the collider is turned into the garment's coordinates, gravity follows the garment's axis,

@@ -1,6 +1,9 @@
-"""A baked garment as USD: one ``UsdGeom.Mesh`` with time-sampled points and the pattern's UVs,
-the garment welded along its seams (``tailor.export.WeldedGarment``), the format Houdini, Maya,
-Unreal, Omniverse and Blender all read without a plug-in (``tailor simulate --usd``).
+"""A baked garment as USD: one ``UsdGeom.Mesh`` with time-sampled points and normals and the
+pattern's UVs, the garment welded along its seams (``tailor.export.WeldedGarment``), the format
+Houdini, Maya, Unreal, Omniverse and Blender all read without a plug-in (``tailor simulate
+--usd``). With the frame's fit maps (``Simulation.fit_maps``, ``tailor simulate --maps``) each
+is a time-sampled per-point primvar too: ``tailor_strain``, ``tailor_pressure`` (pascals) and
+``tailor_distance`` (metres to the body), the names the add-on's Live writes.
 
 The UVs are ``primvars:st``, ``faceVarying`` (a seam's two sides keep their own). The stage says
 its up axis and that a unit is a metre. Frames are added as they are solved (``add``) and the
@@ -57,12 +60,28 @@ class UsdCache:
         st.Set(Vt.Vec2fArray.FromNumpy(self.garment.corner_uvs))
         self._points = self.mesh.CreatePointsAttr()
         self._extent = self.mesh.CreateExtentAttr()
+        # Vertex normals, area-weighted, sampled with the points (a viewer then shades the
+        # frames as solved instead of recomputing them from the welded triangles).
+        self._normals = self.mesh.CreateNormalsAttr()
+        self.mesh.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+        self._Sdf, self._primvars = Sdf, UsdGeom.PrimvarsAPI(self.mesh)
+        self._maps: dict = {}
 
-    def add(self, positions: np.ndarray) -> None:
-        """The next frame: the particles' positions ((n, 3), as `Simulation.positions`)."""
+    def add(self, positions: np.ndarray, maps: dict | None = None) -> None:
+        """The next frame: the particles' positions ((n, 3), as `Simulation.positions`), and
+        with `maps` (`Simulation.fit_maps`' dict) its fit maps, welded as the points are."""
         p = self.garment.points(positions)
         t = self.start_frame + self.frames
         self._points.Set(self._Vt.Vec3fArray.FromNumpy(p), t)
+        self._normals.Set(self._Vt.Vec3fArray.FromNumpy(vertex_normals(p, self.garment.triangles)), t)
+        for key, values in (maps or {}).items():
+            if values is None:
+                continue
+            if key not in self._maps:
+                self._maps[key] = self._primvars.CreatePrimvar(f"tailor_{key}", self._Sdf.ValueTypeNames.FloatArray,
+                                                               "vertex")
+            welded = self.garment.points(np.repeat(np.asarray(values, np.float32)[:, None], 3, axis=1))[:, 0]
+            self._maps[key].Set(self._Vt.FloatArray.FromNumpy(np.ascontiguousarray(welded, np.float32)), t)
         lo, hi = p.min(axis=0), p.max(axis=0)
         self._extent.Set(self._Vt.Vec3fArray([self._Gf.Vec3f(*map(float, lo)), self._Gf.Vec3f(*map(float, hi))]), t)
         self.frames += 1
@@ -76,6 +95,20 @@ class UsdCache:
 
     def close(self) -> None:
         self.stage.GetRootLayer().Save()
+
+
+def vertex_normals(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Unit per-point normals ((k, 3) float32): the sum of the adjoining triangles' area-weighted
+    normals (a point in no triangle, or where they cancel, gets (0, 0, 1))."""
+    p = np.asarray(points, np.float64)
+    t = np.asarray(triangles, np.int64)
+    face = np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]])
+    n = np.zeros_like(p)
+    for k in range(3):
+        np.add.at(n, t[:, k], face)
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    out = np.where(length > 1e-20, n / np.maximum(length, 1e-30), [0.0, 0.0, 1.0])
+    return out.astype(np.float32)
 
 
 def _prim_name(name: str) -> str:

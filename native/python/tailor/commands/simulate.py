@@ -41,7 +41,8 @@ every 10 frames and at the end, its up axis the run's. ``--obj-dir`` writes the 
 garment as one OBJ a frame (``DIR/GARMENT.0001.obj`` on, with UVs; ``tailor.export``).
 ``--maps`` writes the fit maps of every frame (``Simulation.fit_maps``: strain, signed distance
 to the collider, pressure) as an .npz of frames x particles, and their summary in each frame's
-record (``"fit"``); not with ``--resume``.
+record (``"fit"``); not with ``--resume``; with ``--usd`` too, the maps are also time-sampled
+primvars of the USD mesh.
 
 Progress: one line per frame on stdout. ``-o`` is written frame by frame (``tailor.Pc2Stream``:
 a valid cache of the frames done after every frame), and the report every 10 frames
@@ -260,12 +261,13 @@ def run(args):
         frames.append(rec)
         if cache is not None:
             cache.push(run.frames[-1])
+        frame_maps = sim.fit_maps(cid) if maps is not None else None
         if usd is not None:
-            usd.add(run.frames[-1])
+            usd.add(run.frames[-1], frame_maps)
         if objs is not None:
             objs.add(run.frames[-1])
         if maps is not None:
-            rec["fit"] = maps.add(sim.fit_maps(cid))
+            rec["fit"] = maps.add(frame_maps)
         print(f"frame {f:4d}/{args.frames}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
               f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
               f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "

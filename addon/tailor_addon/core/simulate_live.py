@@ -180,7 +180,9 @@ class LiveSolver:
             self.run.records.clear()
             self.run.frames.append(pos)
         self._solves = None
-        maps = rec.pop("fit_maps", None)
+        maps = self.run.fit_maps.get(rec["frame"])
+        if not self.keep_frames:
+            self.run.fit_maps.clear()
         self._result = LiveResult(self._frame, pos, rec, float(rec["ms"]), fit_maps=maps)
         if rec.get("measured", True):
             self.measured = self._result

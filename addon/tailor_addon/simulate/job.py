@@ -32,7 +32,7 @@ from tailor import bake
 from .. import compat, preferences
 from ..core import AddonError
 from ..core import simulate as core_sim
-from . import gather
+from . import fit_map_attrs, gather
 
 #: Live jobs by (scene, garment): the solver state a resume continues.
 JOBS: dict[tuple[str, str], "BakeJob"] = {}
@@ -105,6 +105,8 @@ class BakeJob:
         self.fingerprint += f"/{gravity}"
         self.run = bake.Bake(built.sim, built.colliders, self.settings.fps, self.start, s.preroll, assembly, transition,
                              gravity, pins=built.pins)
+        # With a Fit Map chosen, every frame's fit maps too (written beside the caches).
+        self.run.keep_fit_maps = s.fit_map != "NONE"
         # Piece transforms at the start: caches are in each piece's local space.
         self.inverse = [np.linalg.inv(np.array(o.matrix_world, np.float64)) for o in self.objects]
         # The last checkpoint: when, and how many frames it wrote.
@@ -143,6 +145,9 @@ class BakeJob:
     def checkpoint_paths(self) -> list[str]:
         return [os.path.splitext(p)[0] + ".checkpoint.pc2" for p in self.cache_paths()]
 
+    def maps_path(self) -> str:
+        return os.path.join(self.folder, f"{bpy.path.clean_name(self.garment_name)}.maps.npz")
+
     def report_path(self) -> str:
         return os.path.join(self.folder, f"{bpy.path.clean_name(self.garment_name)}.report.json")
 
@@ -164,6 +169,10 @@ class BakeJob:
             "adapter": self.adapter,
             "caches": [os.path.basename(p) for p in paths],
         }
+        if self.run.fit_maps:
+            fit_map_attrs.save_baked(self.maps_path(), self.run.fit_maps, self.piece_names, self.garment.offsets,
+                                     self.garment.num_particles)
+            report["fit_maps"] = os.path.basename(self.maps_path())
         tmp = self.report_path() + ".partial"
         with open(tmp, "w") as fh:
             json.dump(report, fh, indent=1)
@@ -275,6 +284,7 @@ def finish(scene, job: BakeJob, cancelled: bool) -> str:
         job.attach_caches(scene, paths)
     s = scene.tailor_simulate
     s.baked_frames = len(job.run.frames)
+    s.baked_fit_maps = job.maps_path() if job.run.fit_maps else ""
     s.bake_report = job.summary_text()
     scene.frame_set(job.start)
     if job.done:

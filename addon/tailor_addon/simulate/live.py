@@ -22,11 +22,10 @@ import numpy as np
 
 from tailor import bake
 
-from ..core import fit_maps
 from ..core import simulate as core_sim
 from ..core.simulate_live import LiveResult, LiveSolver
 from ..paint.maps import painted_maps
-from . import gather
+from . import fit_map_attrs, gather
 
 SESSIONS: dict[str, "LiveSession"] = {}
 MAPS_EVERY = 15
@@ -101,24 +100,8 @@ class LiveSession:
             self._write_fit_maps(res.fit_maps)
 
     def _write_fit_maps(self, maps: dict) -> None:
-        """A measured frame's fit maps onto the pieces: each map a float point attribute, the
-        chosen one's colours the active colour attribute (`core.fit_maps`)."""
-        n, offsets = self.garment.num_particles, self.garment.offsets
-        parts = {key: [p.ravel() for p in core_sim.split_pieces(np.asarray(v, np.float32)[:, None], offsets, n)]
-                 for key, v in maps.items() if v is not None}
-        shown = fit_maps.KEY[self.fit_map]
-        for k, o in enumerate(self.objects):
-            me = o.data
-            for key, per_piece in parts.items():
-                name = fit_maps.ATTRIBUTES[key]
-                attr = me.attributes.get(name) or me.attributes.new(name, "FLOAT", "POINT")
-                attr.data.foreach_set("value", per_piece[k])
-            if shown in parts:
-                col = me.color_attributes.get(fit_maps.COLOUR_ATTRIBUTE) or me.color_attributes.new(
-                    fit_maps.COLOUR_ATTRIBUTE, "FLOAT_COLOR", "POINT")
-                col.data.foreach_set("color", fit_maps.colours(self.fit_map, parts[shown][k]).reshape(-1))
-                me.color_attributes.active_color = col
-            me.update()
+        """A measured frame's fit maps onto the pieces (`fit_map_attrs.write`)."""
+        fit_map_attrs.write(self.objects, self.garment.offsets, self.garment.num_particles, maps, self.fit_map)
 
     def pending_edits(self, scene) -> list:
         """Edits of fabric, settings and painted maps since the solver last saw them. Each edit

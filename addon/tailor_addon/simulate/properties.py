@@ -181,6 +181,10 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     # Last bake (display)
     baked_frames: IntProperty(name="Baked Frames", default=0)
     bake_report: StringProperty(name="Last Bake", description="Summary of the last bake's quality")
+    baked_fit_maps: StringProperty(
+        name="Baked Fit Maps", description="The last bake's fit maps (kept when a Fit Map was chosen), shown per frame",
+        default="", subtype="FILE_PATH",
+    )
     # Live
     live_running: BoolProperty(name="Live", default=False, options={"SKIP_SAVE"})
     show_overlay: BoolProperty(name="Overlay", description="Draw fps, seam gap, penetrations, strain", default=True)

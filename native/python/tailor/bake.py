@@ -435,6 +435,11 @@ class Bake:
     #: `AssemblyFrame`: for drivers that report the assembly (the demo's timings per phase).
     #: The frames solved are the same with it or without.
     on_assembly_frame: Callable[[AssemblyFrame], None] | None = None
+    #: Every recorded frame's fit maps too (`Simulation.fit_maps` on the metrics collider, the
+    #: add-on's bake with a Fit Map chosen), kept by frame in `fit_maps` (not in the records,
+    #: which stay JSON).
+    keep_fit_maps: bool = False
+    fit_maps: dict[int, dict] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         # A NaN or zero rate would reach the solver as a NaN or infinite time step.
@@ -500,8 +505,8 @@ class Bake:
         # How far the particles resting on a body moved this frame (median): on a still body,
         # the drape's jitter at rest.
         rec["contact_motion_m"] = None if stats is None else stats.get("contact_motion_m")
-        if fit_maps:
-            rec["fit_maps"] = yield MapFit(self.metrics_collider)
+        if fit_maps or self.keep_fit_maps:
+            self.fit_maps[rec["frame"]] = yield MapFit(self.metrics_collider)
         self.frames.append(pos)
         self.records.append(rec)
         return rec

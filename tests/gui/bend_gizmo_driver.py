@@ -29,6 +29,8 @@ from pathlib import Path
 import bpy
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # window.py, shared by the drivers
+from window import key, override, to_window, view3d  # noqa: E402
 SKIRT = ROOT / "native/tailor-core/tests/data/svg/skirt_two_panels.svg"
 PAUSE = 0.15
 
@@ -55,34 +57,8 @@ def check(what: str, ok: bool, detail="") -> None:
         raise AssertionError(f"{what}: {detail}")
 
 
-def view3d():
-    win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return win, area, region, area.spaces.active.region_3d
-
-
-def override():
-    win, area, region, _ = view3d()
-    return bpy.context.temp_override(window=win, area=area, region=region, screen=win.screen)
-
-
-def to_window(world) -> tuple[int, int]:
-    from bpy_extras import view3d_utils
-
-    _, _, region, rv3d = view3d()
-    xy = view3d_utils.location_3d_to_region_2d(region, rv3d, world)
-    return int(round(region.x + xy[0])), int(round(region.y + xy[1]))
-
-
 def event(kind, value, x, y, **modifiers):
     view3d()[0].event_simulate(type=kind, value=value, x=x, y=y, **modifiers)
-
-
-def key(name, **modifiers):
-    win = view3d()[0]
-    win.event_simulate(type=name, value="PRESS", **modifiers)
-    win.event_simulate(type=name, value="RELEASE", **modifiers)
 
 
 def screenshot(name: str):

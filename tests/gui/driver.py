@@ -44,6 +44,8 @@ from pathlib import Path
 import bpy
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # window.py, shared by the drivers
+from window import key, override, to_window, view3d  # noqa: E402
 SKIRT = ROOT / "native/tailor-core/tests/data/svg/skirt_two_panels.svg"
 PAUSE = 0.15  # seconds for the loop to handle queued events and redraw
 
@@ -72,29 +74,7 @@ def check(what: str, ok: bool, detail="") -> None:
         raise AssertionError(f"{what}: {detail}")
 
 
-# ---- the window --------------------------------------------------------------------------
-
-
-def view3d():
-    """(window, area, WINDOW region, RegionView3D) of the 3D view."""
-    win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return win, area, region, area.spaces.active.region_3d
-
-
-def override():
-    win, area, region, _ = view3d()
-    return bpy.context.temp_override(window=win, area=area, region=region, screen=win.screen)
-
-
-def to_window(world) -> tuple[int, int]:
-    """Window pixel of a world point (event_simulate takes window coordinates)."""
-    from bpy_extras import view3d_utils
-
-    _, _, region, rv3d = view3d()
-    xy = view3d_utils.location_3d_to_region_2d(region, rv3d, world)
-    return int(round(region.x + xy[0])), int(round(region.y + xy[1]))
+# ---- the window (view3d, override, to_window, key: window.py) ------------------------------
 
 
 def move(x, y):
@@ -106,12 +86,6 @@ def click(x, y, button="LEFTMOUSE"):
     win.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
     win.event_simulate(type=button, value="PRESS", x=x, y=y)
     win.event_simulate(type=button, value="RELEASE", x=x, y=y)
-
-
-def key(name, **modifiers):
-    win = view3d()[0]
-    win.event_simulate(type=name, value="PRESS", **modifiers)
-    win.event_simulate(type=name, value="RELEASE", **modifiers)
 
 
 def screenshot(name: str):

@@ -46,6 +46,8 @@ from pathlib import Path
 import bpy
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # window.py, shared by the drivers
+from window import key, override, view3d  # noqa: E402
 SKIRT = ROOT / "native/tailor-core/tests/data/svg/skirt_two_panels.svg"
 PAUSE = 0.15
 TRAVEL = 0.4  # metres the plate slides along +x
@@ -79,24 +81,6 @@ def check(what: str, ok: bool, detail="") -> None:
     print(f"GUI LIVE {'PASS' if ok else 'FAIL'}: {what} {detail}", flush=True)
     if not ok:
         raise AssertionError(f"{what}: {detail}")
-
-
-def view3d():
-    win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return win, area, region, area.spaces.active.region_3d
-
-
-def override():
-    win, area, region, _ = view3d()
-    return bpy.context.temp_override(window=win, area=area, region=region, screen=win.screen)
-
-
-def key(name, **modifiers):
-    win = view3d()[0]
-    win.event_simulate(type=name, value="PRESS", **modifiers)
-    win.event_simulate(type=name, value="RELEASE", **modifiers)
 
 
 def screenshot(name: str) -> Path:

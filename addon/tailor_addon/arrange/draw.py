@@ -8,9 +8,10 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from ..view_draw import ViewDrawHandler
+
 from ..core.arrange import axis_lines
 
-_handle = None
 
 #: Colours by place (torso, waist, arms, legs).
 _COLOURS = {
@@ -79,15 +80,12 @@ def _draw() -> None:
     gpu.state.blend_set("NONE")
 
 
+_HANDLER = ViewDrawHandler(_draw)
+
+
 def register() -> None:
-    global _handle
-    if bpy.app.background or _handle is not None:
-        return
-    _handle = bpy.types.SpaceView3D.draw_handler_add(_draw, (), "WINDOW", "POST_VIEW")
+    _HANDLER.register()
 
 
 def unregister() -> None:
-    global _handle
-    if _handle is not None:
-        bpy.types.SpaceView3D.draw_handler_remove(_handle, "WINDOW")
-        _handle = None
+    _HANDLER.unregister()

@@ -9,6 +9,8 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from ..view_draw import ViewDrawHandler
+
 from .. import scene_data
 from . import maps
 
@@ -24,7 +26,6 @@ LEVEL_COLOURS = np.array(
     np.float32,
 )
 
-_handle = None
 
 
 def level_points(obj) -> tuple[np.ndarray, np.ndarray] | None:
@@ -63,15 +64,12 @@ def _draw() -> None:
         gpu.state.point_size_set(1.0)
 
 
+_HANDLER = ViewDrawHandler(_draw)
+
+
 def register() -> None:
-    global _handle
-    if bpy.app.background or _handle is not None:
-        return
-    _handle = bpy.types.SpaceView3D.draw_handler_add(_draw, (), "WINDOW", "POST_VIEW")
+    _HANDLER.register()
 
 
 def unregister() -> None:
-    global _handle
-    if _handle is not None:
-        bpy.types.SpaceView3D.draw_handler_remove(_handle, "WINDOW")
-        _handle = None
+    _HANDLER.unregister()

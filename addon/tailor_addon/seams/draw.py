@@ -12,11 +12,12 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from ..view_draw import ViewDrawHandler
+
 from .. import scene_data
 from ..core import mesh_of
 from ..core.garment import SeamData, SeamSide, resolve
 
-_handle = None
 _cache: dict = {}
 _CACHE_MAX = 256
 
@@ -127,16 +128,13 @@ def _draw() -> None:
     gpu.state.blend_set("NONE")
 
 
+_HANDLER = ViewDrawHandler(_draw)
+
+
 def register() -> None:
-    global _handle
-    if bpy.app.background or _handle is not None:
-        return
-    _handle = bpy.types.SpaceView3D.draw_handler_add(_draw, (), "WINDOW", "POST_VIEW")
+    _HANDLER.register()
 
 
 def unregister() -> None:
-    global _handle
-    if _handle is not None:
-        bpy.types.SpaceView3D.draw_handler_remove(_handle, "WINDOW")
-        _handle = None
+    _HANDLER.unregister()
     _cache.clear()

@@ -27,10 +27,11 @@ os.environ["BLENDER_USER_RESOURCES"] = str(USER_DIR)
 atexit.register(shutil.rmtree, USER_DIR, ignore_errors=True)
 
 
-def install() -> None:
+def install(zip_path: Path | None = None) -> None:
+    """Installs and enables the add-on from `zip_path` (default `dist/tailor_addon.zip`)."""
     import bpy
 
-    zip_path = ROOT / "dist" / "tailor_addon.zip"
+    zip_path = Path(zip_path or ROOT / "dist" / "tailor_addon.zip").resolve()
     if not zip_path.is_file():
         sys.exit(f"{zip_path} is missing: make addon")
     bpy.ops.extensions.package_install_files(filepath=str(zip_path), repo="user_default", enable_on_install=True)

@@ -38,15 +38,9 @@ import time
 from importlib import import_module
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parents[1]
-MODULE = "bl_ext.user_default.tailor_addon"
-# As conftest.py: no development `tailor` (this or another worktree's native/python) on the path.
-sys.path[:] = [p for p in sys.path if Path(p).parts[-2:] != ("native", "python")]
-if str(HERE) not in sys.path:
-    sys.path.insert(0, str(HERE))
-USER_DIR = Path(tempfile.mkdtemp(prefix="tailor-profile-user-"))
-os.environ["BLENDER_USER_RESOURCES"] = str(USER_DIR)
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+# Before bpy: the throw-away user directory, and no development `tailor` on the path.
+from bench_env import MODULE, ROOT, USER_DIR, install  # noqa: E402
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
@@ -114,7 +108,9 @@ def instrument(timed: Timed) -> None:
     bake.start_async = lambda sim, request: PendingProxy(start_async(sim, request), timed)
 
 
-def run(garment: str, frames: int, warmup: int, preset: str, profile: bool) -> dict:
+def open_walk(garment: str, frames: int, preset: str):
+    """The garment sewn on the walking character (`cloth_scene.walking_scene`, `frames` frames),
+    opened, at `preset`: (its setup, the scene, the add-on's Live module)."""
     import cloth_scene
 
     d = Path(tempfile.mkdtemp(prefix=f"tailor-profile-{garment}-"))
@@ -125,7 +121,11 @@ def run(garment: str, frames: int, warmup: int, preset: str, profile: bool) -> d
         shutil.rmtree(d, ignore_errors=True)
     scene = bpy.context.scene
     scene.tailor_simulate.preset = preset
-    live = import_module(MODULE + ".simulate.live")
+    return setup, scene, import_module(MODULE + ".simulate.live")
+
+
+def run(garment: str, frames: int, warmup: int, preset: str, profile: bool) -> dict:
+    setup, scene, live = open_walk(garment, frames, preset)
     timed = Timed()
     instrument(timed)
     per: list[dict] = []
@@ -183,19 +183,9 @@ def run_modal(garment: str, seconds: float, preset: str, tick_s: float) -> dict:
     (`LiveSession.tick`) collects a finished frame, submits the next and writes the pieces.
     Returns Live's frames applied per second, and how long the solver sat idle between
     frames (a finished solve waiting for the next tick, then the main thread's turn)."""
-    import cloth_scene
-
     fps_scene = 30
     frames = int(seconds * fps_scene) + 2
-    d = Path(tempfile.mkdtemp(prefix=f"tailor-profile-{garment}-"))
-    try:
-        setup = cloth_scene.walking_scene(garment, d / f"{garment}_walk.blend", frames=frames)
-        bpy.ops.wm.open_mainfile(filepath=str(d / f"{garment}_walk.blend"))
-    finally:
-        shutil.rmtree(d, ignore_errors=True)
-    scene = bpy.context.scene
-    scene.tailor_simulate.preset = preset
-    live = import_module(MODULE + ".simulate.live")
+    setup, scene, live = open_walk(garment, frames, preset)
     session = live.start(bpy.context)
     from tailor import bake
 
@@ -256,8 +246,7 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=4.0, help="with --modal: how long the timeline plays")
     args = ap.parse_args()
     try:
-        assert bpy.ops.extensions.package_install_files(filepath=str(args.zip.resolve()), repo="user_default",
-                                                        enable_on_install=True) == {"FINISHED"}
+        install(args.zip)
         import tailor
 
         assert Path(tailor.__file__).is_relative_to(USER_DIR), tailor.__file__

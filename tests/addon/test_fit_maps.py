@@ -55,6 +55,10 @@ def test_a_bake_keeps_its_fit_maps_and_the_timeline_shows_them(addon, tmp_path):
 
     report = json.load(open(os.path.join(os.path.dirname(path), os.path.basename(path).replace(".maps.npz", ".report.json"))))
     assert report["fit_maps"] == os.path.basename(path)
+    # A new bake forgets the old maps from its start (the handler then writes nothing while the
+    # bake sets its frames), and one without a Fit Map keeps none.
+    addon.simulate.job.BakeJob(scene)
+    assert scene.tailor_simulate.baked_fit_maps == ""
     scene.tailor_simulate.fit_map = "NONE"
     assert bpy.ops.tailor.bake() == {"FINISHED"}
     assert scene.tailor_simulate.baked_fit_maps == ""

@@ -105,8 +105,11 @@ class BakeJob:
         self.fingerprint += f"/{gravity}"
         self.run = bake.Bake(built.sim, built.colliders, self.settings.fps, self.start, s.preroll, assembly, transition,
                              gravity, pins=built.pins)
-        # With a Fit Map chosen, every frame's fit maps too (written beside the caches).
+        # With a Fit Map chosen, every frame's fit maps too (written beside the caches). The last
+        # bake's maps describe the caches this bake replaces: forgotten now, so that the
+        # frame-change handler does not write them at every frame the bake sets.
         self.run.keep_fit_maps = s.fit_map != "NONE"
+        s.baked_fit_maps = ""
         # Piece transforms at the start: caches are in each piece's local space.
         self.inverse = [np.linalg.inv(np.array(o.matrix_world, np.float64)) for o in self.objects]
         # The last checkpoint: when, and how many frames it wrote.

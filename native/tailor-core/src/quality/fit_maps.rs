@@ -99,8 +99,8 @@ pub fn vertex_areas(rest: &[[f32; 2]], triangles: &[[u32; 3]]) -> Result<Vec<f32
 
 /// Signed distance of each point to `body`'s surface (positive outside), with the outward unit
 /// direction at the closest point (from it to the point, flipped inside; the face normal
-/// oriented the same way when the point is on the surface).
-fn signed_distance_and_normal(body: &ClosedMesh, p: [f32; 3]) -> (f32, Vec3) {
+/// oriented away from `centre`, the body's surface centroid, when the point is on the surface).
+fn signed_distance_and_normal(body: &ClosedMesh, centre: Vec3, p: [f32; 3]) -> (f32, Vec3) {
     let (d, t) = body.distance(p);
     let inside = body.contains(p);
     let [a, b, c] = body.triangles()[t as usize].map(|i| Vec3::from(body.vertices()[i as usize]));
@@ -113,7 +113,6 @@ fn signed_distance_and_normal(body: &ClosedMesh, p: [f32; 3]) -> (f32, Vec3) {
     } else {
         let face = triangle_normal(a, b, c).unwrap_or(Vec3::Z);
         // Outward: the side away from the body's centroid, for want of a better witness.
-        let centre = Vec3::from(body.surface_centroid());
         if face.dot(q - centre) >= 0.0 {
             face
         } else {
@@ -127,7 +126,8 @@ fn signed_distance_and_normal(body: &ClosedMesh, p: [f32; 3]) -> (f32, Vec3) {
 pub fn signed_distances(points: &[[f32; 3]], body: &ClosedMesh) -> Vec<f32> {
     use rayon::prelude::*;
     body.prepare_queries();
-    points.par_iter().map(|&p| signed_distance_and_normal(body, p).0).collect()
+    let centre = Vec3::from(body.surface_centroid());
+    points.par_iter().map(|&p| signed_distance_and_normal(body, centre, p).0).collect()
 }
 
 /// The pressure map (see the module docs): `forces` are the cloth's own forces on each vertex
@@ -148,12 +148,13 @@ pub fn contact_pressure(
         ));
     }
     body.prepare_queries();
+    let centre = Vec3::from(body.surface_centroid());
     Ok(points
         .par_iter()
         .zip(forces)
         .zip(areas)
         .map(|((&p, &f), &a)| {
-            let (d, n) = signed_distance_and_normal(body, p);
+            let (d, n) = signed_distance_and_normal(body, centre, p);
             if d > band || a <= 0.0 {
                 return 0.0;
             }

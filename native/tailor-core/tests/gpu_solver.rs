@@ -32,6 +32,42 @@ const TOLERANCE_GS: f32 = 2e-5;
 /// 1.9e-4 m by frame 30, so it shares this bound.
 const TOLERANCE_CHEBYSHEV: f32 = 1e-3;
 
+/// Whether the GPU is a software adapter (lavapipe): it rounds as the CPU does, and the tight
+/// bounds above, measured there, hold. A hardware compiler contracts multiply-adds and rounds
+/// divisions its own way, in every iteration of every substep: on an NVIDIA H100 (2026-11-27,
+/// `bench/gpu/on_device.sh`) the hanging strip differed by 1.6e-6 m after its first frame and
+/// 5.7e-5 m after 30, the wavy strip 9.2e-6 and 2.0e-4 m (deterministic: two GPU runs agree bit
+/// for bit, `gpu_runs_repeat_bit_for_bit`). There a scene's bound is its own sensitivity to
+/// rounding-sized changes made as often ([`rounding_bound`]).
+fn rounds_as_the_cpu(g: &Solver) -> bool {
+    g.adapter().is_some_and(|a| a.contains(", Cpu,"))
+}
+
+/// Bound on a GPU run's drift from the CPU's that a port error would exceed: `tight` on a
+/// software adapter; on hardware, [`DRIFT_FACTOR`] times the CPU's own drift when every frame
+/// starts from positions moved by a rounding-sized amount (about 1e-7 m, [`perturb_by`]): the
+/// GPU rounds differently at every step, not once, so a single perturbation of the start (which
+/// the solver damps away) would understate what rounding does; never under `tight`.
+fn rounding_bound(g: &Solver, make: &dyn Fn() -> Simulation, frames: usize, tight: f32) -> f32 {
+    if rounds_as_the_cpu(g) {
+        return tight;
+    }
+    let (mut cpu, mut perturbed) = (make(), make());
+    let mut reference = 0.0f32;
+    for _ in 0..frames {
+        perturb_by(&mut perturbed, 1e-7);
+        cpu.step(1.0 / 30.0).unwrap();
+        perturbed.step(1.0 / 30.0).unwrap();
+        reference = reference.max(max_diff(&cpu, &perturbed));
+    }
+    println!("rounding bound on hardware: the CPU drifts {reference:.3e} m from itself");
+    tight.max(DRIFT_FACTOR * reference)
+}
+
+/// Bound on one frame's difference from a shared start on any adapter: rounding alone, before
+/// anything amplifies it (measured 9.2e-6 m at most, the wavy strip on an H100).
+const TOLERANCE_FIRST_FRAME: f32 = 5e-5;
+
 fn strip() -> Simulation {
     strip_with(Method::Chebyshev)
 }
@@ -99,6 +135,9 @@ fn agree(cpu: &mut Simulation, gpu: &mut Solver, frames: usize) -> f32 {
         assert_eq!(a.ramp_phase, b.ramp_phase, "frame {f}");
         let d = max_diff(cpu, gpu.simulation());
         worst = worst.max(d);
+        if f == 0 {
+            assert!(d < TOLERANCE_FIRST_FRAME, "the first frame differs by {d} m: more than rounding");
+        }
         if f % 10 == 0 || f + 1 == frames {
             println!("frame {f}: max |Δx| {d:.3e} m, residual cpu {:.3e} gpu {:.3e}", a.residual, b.residual);
         }
@@ -115,7 +154,8 @@ fn gauss_seidel_matches_the_cpu_up_to_rounding() {
         let mut cpu = make(Method::GaussSeidel);
         let worst = agree(&mut cpu, &mut g, 30);
         println!("{name}, Gauss-Seidel: worst max |Δx| over 30 frames {worst:.3e} m");
-        assert!(worst < tolerance, "{name}: GPU and CPU differ by {worst} m");
+        let bound = rounding_bound(&g, &|| make(Method::GaussSeidel), 30, tolerance);
+        assert!(worst < bound, "{name}: GPU and CPU differ by {worst} m (bound {bound} m)");
     }
 }
 
@@ -184,7 +224,8 @@ fn curved_stencils_match_the_cpu() {
     assert!(!cpu.model().slots.curved.is_empty(), "the scene has no curved stencils");
     let worst = agree(&mut cpu, &mut g, 30);
     println!("wavy strip, Gauss-Seidel: worst max |Δx| over 30 frames {worst:.3e} m");
-    assert!(worst < TOLERANCE_GS, "GPU and CPU differ by {worst} m");
+    let bound = rounding_bound(&g, &|| wavy_strip(Method::GaussSeidel), 30, TOLERANCE_GS);
+    assert!(worst < bound, "GPU and CPU differ by {worst} m (bound {bound} m)");
     // The rest wave shapes the strip: it leaves the plane y = 0.
     let y = (0..cpu.num_particles()).map(|i| cpu.positions().y[i].abs()).fold(0.0f32, f32::max);
     println!("wavy strip: max |y| {y:.3e} m");
@@ -425,10 +466,15 @@ fn divergence_on_the_gpu_rolls_back_and_reports() {
 /// The same start perturbed by about 1e-6 m (a rounding-sized change), as the CPU reference
 /// of how far contact-rich scenes drift on their own.
 fn perturb(sim: &mut Simulation) {
+    perturb_by(sim, 1e-6);
+}
+
+/// Moves every particle by up to `size` metres, in a fixed pattern.
+fn perturb_by(sim: &mut Simulation, size: f32) {
     let start: Vec<[f32; 3]> = (0..sim.num_particles())
         .map(|i| {
             let p = sim.positions().get(i);
-            let e = 1e-6 * (((i * 7919) % 13) as f32 / 6.0 - 1.0);
+            let e = size * (((i * 7919) % 13) as f32 / 6.0 - 1.0);
             [p.x + e, p.y - e, p.z + e]
         })
         .collect();
@@ -441,8 +487,11 @@ struct Drift {
     /// Worst max |Δx| GPU-CPU and perturbed-CPU-CPU over the frames, metres.
     gpu: f32,
     reference: f32,
-    /// GPU-CPU over the frames before the first contact (rounding only).
+    /// GPU-CPU and perturbed-CPU-CPU over the frames before the first contact (rounding only).
     before_contact: f32,
+    reference_before_contact: f32,
+    /// Whether the GPU rounds as the CPU does ([`rounds_as_the_cpu`]).
+    software: bool,
     /// Most particles in contact (CPU).
     contacts: usize,
     /// Deepest particle inside the collider on the GPU at any frame end, metres.
@@ -463,7 +512,7 @@ fn drift(
     let mut cpu = make();
     let mut perturbed = make();
     perturb(&mut perturbed);
-    let mut out = Drift::default();
+    let mut out = Drift { software: rounds_as_the_cpu(&g), ..Default::default() };
     let mut touched = false;
     for f in 0..frames {
         if let Some(p) = animate(f) {
@@ -481,6 +530,7 @@ fn drift(
         touched |= a.contacts > 0 || b.contacts > 0;
         if !touched {
             out.before_contact = out.before_contact.max(d);
+            out.reference_before_contact = out.reference_before_contact.max(r);
         }
         out.contacts = out.contacts.max(a.contacts);
         let x = g.simulation().positions();
@@ -514,7 +564,8 @@ const DRIFT_FACTOR: f32 = 5.0;
 
 fn assert_drift(name: &str, d: &Drift) {
     assert!(d.contacts > 10, "{name}: the cloth never touched ({} contacts)", d.contacts);
-    assert!(d.before_contact < TOLERANCE_GS, "{name}: GPU and CPU differ by {} m before any contact", d.before_contact);
+    let before = if d.software { TOLERANCE_GS } else { TOLERANCE_GS.max(DRIFT_FACTOR * d.reference_before_contact) };
+    assert!(d.before_contact < before, "{name}: GPU and CPU differ by {} m before any contact", d.before_contact);
     assert!(
         d.gpu < DRIFT_FACTOR * d.reference.max(1e-4),
         "{name}: GPU drifts {} m from the CPU, the CPU {} m from itself",
@@ -773,7 +824,7 @@ fn seams_close_under_the_ramp_on_the_gpu_as_on_the_cpu() {
     let mut perturbed = sleeve_round_arm();
     perturb(&mut perturbed);
     assert!(cpu.seams_closing(), "the scene starts with its seams open");
-    let (mut worst, mut reference, mut assembling) = (0.0f32, 0.0f32, 0.0f32);
+    let (mut worst, mut reference, mut assembling, mut reference_assembling) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
     let (mut scheduled_until, mut released_at, mut held) = ([None, None], [None, None], [0usize, 0usize]);
     for f in 0..60usize {
         let a = cpu.step(1.0 / 30.0).unwrap();
@@ -792,9 +843,11 @@ fn seams_close_under_the_ramp_on_the_gpu_as_on_the_cpu() {
         }
         let d = max_diff(&cpu, g.simulation());
         worst = worst.max(d);
-        reference = reference.max(max_diff(&cpu, &perturbed));
+        let r = max_diff(&cpu, &perturbed);
+        reference = reference.max(r);
         if a.ramp_phase == RampPhase::Closing || b.ramp_phase == RampPhase::Closing {
             assembling = assembling.max(d);
+            reference_assembling = reference_assembling.max(r);
         }
         if std::env::var("VERBOSE").is_ok() || f % 10 == 0 {
             println!(
@@ -813,8 +866,15 @@ fn seams_close_under_the_ramp_on_the_gpu_as_on_the_cpu() {
          GPU-CPU {assembling:.3e} m while closing, {worst:.3e} m worst, CPU-CPU perturbed {reference:.3e} m"
     );
     // While the seams close, the two run the same schedule on the same contacts: bit for bit
-    // on lavapipe (0 m); after it, contacts and friction amplify rounding (5.7e-4 m worst).
-    assert!(assembling < TOLERANCE_CHEBYSHEV, "GPU and CPU differ by {assembling} m while the seams close");
+    // on lavapipe (0 m); after it, contacts and friction amplify rounding (5.7e-4 m worst). On
+    // hardware the first frame already rounds apart (3e-6 m on an H100) and the buckling sleeve
+    // amplifies it as it amplifies a perturbed start (H100: 1.8e-2 m, the CPU from itself 3.9e-2).
+    let closing_bound = if rounds_as_the_cpu(&g) {
+        TOLERANCE_CHEBYSHEV
+    } else {
+        TOLERANCE_CHEBYSHEV.max(DRIFT_FACTOR * reference_assembling)
+    };
+    assert!(assembling < closing_bound, "GPU and CPU differ by {assembling} m while the seams close");
     // The schedule runs on time alone: it ends at the same frame on both.
     assert_eq!(scheduled_until[0], scheduled_until[1], "the closing schedule ran out at different frames");
     assert!(scheduled_until[0].is_some(), "the seams were never on their schedule");
@@ -894,5 +954,30 @@ fn gpu_frames_report_per_stage_times() {
         } else {
             assert_eq!(t.total(), t[Stage::Global]);
         }
+    }
+}
+
+/// The GPU gives the same frames every time: two solvers on one scene agree bit for bit. A
+/// race (two threads of one colour writing what the other reads) would show here as frames
+/// that differ between runs, on hardware that runs a colour's threads truly in parallel, where
+/// a comparison with the CPU alone cannot tell a race from the hardware's own rounding.
+#[test]
+fn gpu_runs_repeat_bit_for_bit() {
+    let scenes: [(&str, fn() -> Simulation); 4] = [
+        ("strip, Gauss-Seidel", || strip_with(Method::GaussSeidel)),
+        ("wavy strip", || wavy_strip(Method::GaussSeidel)),
+        ("sphere mesh", || cloth_on_sphere().0),
+        ("sleeve round an arm", sleeve_round_arm),
+    ];
+    for (name, make) in scenes {
+        let Some(mut a) = gpu(make(), "repeat") else { return };
+        let Some(mut b) = gpu(make(), "repeat") else { return };
+        for f in 0..20 {
+            a.step(1.0 / 30.0).unwrap();
+            b.step(1.0 / 30.0).unwrap();
+            let d = max_diff(a.simulation(), b.simulation());
+            assert!(d == 0.0, "{name}: two GPU runs differ by {d} m at frame {f}");
+        }
+        println!("{name}: two GPU runs agree bit for bit over 20 frames");
     }
 }

@@ -415,6 +415,10 @@ def test_usd_carries_normals_and_with_maps_the_fit_maps(tmp_path):
     np.testing.assert_allclose(n, vertex_normals(p, faces), atol=1e-6)
     face = np.cross(p[faces[:, 1]] - p[faces[:, 0]], p[faces[:, 2]] - p[faces[:, 0]])
     assert (np.einsum("ij,ij->i", face, n[faces[:, 0]]) > 0).mean() > 0.95  # they face as the triangles wind
+    # The thickness the cloth kept from the body, for a render-time shell (the report's figure).
+    thickness = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("tailor_thickness")
+    assert thickness.GetInterpolation() == UsdGeom.Tokens.constant
+    assert thickness.Get() == pytest.approx(json.loads((tmp_path / "r.json").read_text())["thickness_m"])
     z = np.load(maps)
     g = tailor.Garment.load(garment)
     sim, _ = g.build_simulation()

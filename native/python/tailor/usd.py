@@ -3,7 +3,10 @@ pattern's UVs, the garment welded along its seams (``tailor.export.WeldedGarment
 Houdini, Maya, Unreal, Omniverse and Blender all read without a plug-in (``tailor simulate
 --usd``). With the frame's fit maps (``Simulation.fit_maps``, ``tailor simulate --maps``) each
 is a time-sampled per-point primvar too: ``tailor_strain``, ``tailor_pressure`` (pascals) and
-``tailor_distance`` (metres to the body), the names the add-on's Live writes.
+``tailor_distance`` (metres to the body), the names the add-on's Live writes. With a
+``thickness`` the mesh carries it as the constant primvar ``tailor_thickness`` (metres: the
+distance the cloth was simulated keeping from the body, so a shell or solidify of up to that
+much at render time stays outside it).
 
 The UVs are ``primvars:st``, ``faceVarying`` (a seam's two sides keep their own). The stage says
 its up axis and that a unit is a metre. Frames are added as they are solved (``add``) and the
@@ -25,10 +28,11 @@ from tailor.export import WeldedGarment
 
 class UsdCache:
     """A USD file of the welded garment of `sim`, frame by frame: `add(positions)` writes the
-    next time sample (frame `start_frame`, then +1 each), `close()` saves. `up` is "y" or "z"."""
+    next time sample (frame `start_frame`, then +1 each), `close()` saves. `up` is "y" or "z";
+    `thickness` (metres, optional) is written as the constant primvar ``tailor_thickness``."""
 
     def __init__(self, path: str | os.PathLike, sim: Simulation, start_frame: float = 1.0, fps: float = 30.0,
-                 up: str = "y", name: str = "garment", save_every: int = 10):
+                 up: str = "y", name: str = "garment", save_every: int = 10, thickness: float | None = None):
         try:
             from pxr import Gf, Sdf, Usd, UsdGeom, Vt
         except ImportError as exc:  # an optional dependency: say how to get it
@@ -58,6 +62,11 @@ class UsdCache:
         st = UsdGeom.PrimvarsAPI(self.mesh).CreatePrimvar("st", Sdf.ValueTypeNames.TexCoord2fArray,
                                                             UsdGeom.Tokens.faceVarying)
         st.Set(Vt.Vec2fArray.FromNumpy(self.garment.corner_uvs))
+        if thickness is not None:
+            if not (np.isfinite(thickness) and thickness >= 0.0):
+                raise ValueError(f"thickness must be finite and >= 0, got {thickness}")
+            UsdGeom.PrimvarsAPI(self.mesh).CreatePrimvar("tailor_thickness", Sdf.ValueTypeNames.Float,
+                                                         UsdGeom.Tokens.constant).Set(float(thickness))
         self._points = self.mesh.CreatePointsAttr()
         self._extent = self.mesh.CreateExtentAttr()
         # Vertex normals, area-weighted, sampled with the points (a viewer then shades the

@@ -36,8 +36,8 @@ them and its ``verdict``: each failed check with the first frame that failed it 
 as a ``warning:`` line.
 
 ``--usd`` also writes the garment welded along its seams as one USD mesh with time-sampled
-points and the pattern's UVs (``tailor.usd.UsdCache``; needs PyPI's ``usd-core``), saved
-every 10 frames and at the end, its up axis the run's. ``--obj-dir`` writes the same welded
+points, normals and the pattern's UVs, and the garment's thickness as the constant primvar
+``tailor_thickness`` (``tailor.usd.UsdCache``; needs PyPI's ``usd-core``), saved every 10 frames and at the end, its up axis the run's. ``--obj-dir`` writes the same welded
 garment as one OBJ a frame (``DIR/GARMENT.0001.obj`` on, with UVs; ``tailor.export``).
 ``--maps`` writes the fit maps of every frame (``Simulation.fit_maps``: strain, signed distance
 to the collider, pressure) as an .npz of frames x particles, and their summary in each frame's
@@ -227,7 +227,8 @@ def run(args):
     if args.usd:
         from tailor.usd import UsdCache
 
-        usd = UsdCache(args.usd, sim, start_frame=1.0, fps=args.fps, up=up, name=Path(args.garment).stem)
+        usd = UsdCache(args.usd, sim, start_frame=1.0, fps=args.fps, up=up, name=Path(args.garment).stem,
+                       thickness=setup["thickness_m"])
         usd.add_all(run.frames[1:])  # the frames a resume solved again
     objs = None
     if args.obj_dir:

@@ -86,6 +86,19 @@ def point_shader():
     raise RuntimeError("no flat-colour shader in this Blender")
 
 
+def smooth_colour_shader():
+    """The built-in shader with per-vertex colours interpolated across a triangle
+    ('3D_SMOOTH_COLOR' in older versions)."""
+    import gpu
+
+    for name in ("SMOOTH_COLOR", "3D_SMOOTH_COLOR"):
+        try:
+            return gpu.shader.from_builtin(name)
+        except (ValueError, TypeError):
+            continue
+    raise RuntimeError("no smooth-colour shader in this Blender")
+
+
 #: Options of a path property that takes "//" (relative to the .blend): 4.5 warns on such a value
 #: unless the property says so; older versions have no such option.
 BLEND_RELATIVE_PATH = {"PATH_SUPPORTS_BLEND_RELATIVE"} if VERSION >= (4, 5, 0) else set()

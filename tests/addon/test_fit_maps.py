@@ -50,6 +50,23 @@ def test_a_bake_keeps_its_fit_maps_and_the_timeline_shows_them(addon, tmp_path):
             rgba = np.empty(len(obj.data.vertices) * 4, np.float32)
             col.data.foreach_get("color", rgba)
             np.testing.assert_allclose(rgba.reshape(-1, 4), fit.colours("STRAIN", z["strain"][row][a:b]), atol=1e-6)
+            # The overlay draws the frame as played (the Mesh Cache modifier's evaluated mesh)
+            # in the map's colours, one triangle per loop triangle.
+            drawn = addon.simulate.fit_map_draw.fit_map_triangles(obj, bpy.context.evaluated_depsgraph_get())
+            assert drawn is not None
+            pos, nrm, colours, tris = drawn
+            ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+            co = np.empty(len(ev.vertices) * 3, np.float32)
+            ev.vertices.foreach_get("co", co)
+            obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
+            m = np.array(obj.matrix_world, np.float32)
+            np.testing.assert_allclose(pos, co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3], atol=1e-6)
+            np.testing.assert_allclose(colours, rgba.reshape(-1, 4), atol=1e-6)
+            np.testing.assert_allclose(np.linalg.norm(nrm, axis=1), 1.0, atol=1e-4)
+            obj.data.calc_loop_triangles()
+            assert tris.shape == (len(obj.data.loop_triangles), 3) and tris.max() < len(pos)
+    body = next(o for o in scene.objects if o.type == "MESH" and o not in pieces)
+    assert addon.simulate.fit_map_draw.fit_map_triangles(body) is None  # no map written onto it
     # The report names the maps; a bake without a Fit Map keeps none and forgets the old file.
     import json
 

@@ -22,7 +22,7 @@ artist would:
      starts again and an Esc event stops it, not Live; Stop Live (`tailor.live_stop`) ends Live.
 
 Checks: frames were solved and applied while the timeline advanced; the overlay's fps is above
-zero and its text is drawn; the garment moved, stayed finite, and followed the plate (its
+zero and its text is drawn; the Fit Map (strain) overlay drew both pieces; the garment moved, stayed finite, and followed the plate (its
 centroid moved +x by a good part of the plate's travel and stayed on top of it); the largest
 gap between timer calls stayed under a generous bound (the main thread never waited for a
 solve); Esc stopped playback and left Live running; Stop Live ended Live (its modal operator
@@ -182,6 +182,7 @@ def scenario():
     scene.sync_mode = "NONE"  # every frame shown (none skipped): the plate moves 1 cm per solved frame
     s = scene.tailor_simulate
     s.preset = "PREVIEW"
+    s.fit_map = "STRAIN"  # Live colours the pieces, and the overlay draws them over the solid shading
     scene.frame_set(1)
     check("scene built", plate.tailor_collider.is_collider and all(o.tailor_piece.is_piece for o in pieces))
 
@@ -289,6 +290,11 @@ def scenario():
     mid = slide[len(slide) // 2]
     check("... all along the slide", mid[3].mean(axis=0)[0] > c_start[0] + 0.25 * (mid[4].x - start.x),
           (mid[3].mean(axis=0)[0] - c_start[0], mid[4].x - start.x))
+
+    # The fit-map overlay drew both pieces in the last redraw, from the colours Live wrote.
+    drawn = dict(addon.simulate.fit_map_draw.LAST)
+    fig.update(fit_map_overlay=drawn)
+    check("the fit-map overlay draws the pieces", drawn["objects"] == len(pieces) and drawn["triangles"] > 0, drawn)
 
     # ---- 3. screenshot with the overlay; Esc stops playback, not Live; Stop Live ends it --------
     shot = screenshot("live_mode")

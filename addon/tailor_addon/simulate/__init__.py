@@ -5,6 +5,8 @@
 - `job.py`: a bake (`tailor.bake.Bake` driven frame by frame, PC2 caches, Mesh Cache playback);
 - `live.py`, `draw.py`: Live mode's main-thread half and its overlay (the solver, its solves on
   native threads, is `core/simulate_live.py`);
+- `fit_map_attrs.py`, `fit_map_draw.py`: the fit maps written onto the pieces, and drawn over
+  them as an overlay;
 - `runs.py`: the modal bake's and Live's runs (timer, progress, how each ends or is cancelled);
 - `handlers.py`: runs end before a file is replaced; older files' settings carried over;
 - `operators.py`, `ui.py`: the operators and the panel;
@@ -16,7 +18,7 @@
 The simulation itself is built by the bpy-free `core/simulate.py`.
 """
 
-from . import draw, export_animation, export_welded, handlers, live, operators, properties, runs, ui
+from . import draw, export_animation, fit_map_draw, export_welded, handlers, live, operators, properties, runs, ui
 
 classes = properties.classes + operators.classes + export_welded.classes + export_animation.classes + ui.classes
 
@@ -40,6 +42,7 @@ def register() -> None:
 
     properties.register()
     handlers.register()
+    fit_map_draw.register()
     menu.EXTRA.extend(e for e in MENU if e not in menu.EXTRA)
 
 
@@ -47,6 +50,7 @@ def unregister() -> None:
     from .. import menu
 
     handlers.unregister()
+    fit_map_draw.unregister()
     runs.abandon_all()
     live.stop_all()
     draw.remove()

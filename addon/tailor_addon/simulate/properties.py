@@ -196,6 +196,11 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         items=[("NONE", "None", "No fit map")] + [(i, label, what) for i, label, _key, what in fit_maps.MAPS],
         default="NONE",
     )
+    show_fit_map_overlay: BoolProperty(
+        name="Fit Map Overlay",
+        description="Draw the fit map's colours over the pieces in the 3D view, in any shading mode",
+        default=True,
+    )
 
 
 classes = (TailorColliderSettings, TailorSimulateSettings)

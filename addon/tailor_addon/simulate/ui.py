@@ -31,6 +31,8 @@ class TAILOR_PT_simulate(TailorPanel, bpy.types.Panel):
             row.operator("tailor.live", text="Simulate Live", icon="PLAY")
         layout.prop(s, "show_overlay")
         layout.prop(s, "fit_map")
+        if s.fit_map != "NONE":
+            layout.prop(s, "show_fit_map_overlay")
         layout.prop(s, "garment_choice")
 
 

@@ -1,0 +1,168 @@
+"""The textile laboratory's two standard tests, simulated (issue 28): how far the solver is from
+the fabric parameters it is given.
+
+* **Cantilever** (ASTM D1388, option A): a strip 2.5 cm wide held flat on a platform, its free
+  end overhanging by `l` and bending down under its own weight. The bending length `c` follows
+  from the chord's angle `θ` below the horizontal (Peirce 1930, the standard's formula):
+  `c = l · (cos(θ/2) / (8 tan θ))^(1/3)`; an inextensible elastic strip of flexural rigidity
+  `B` (N·m, the solver's bending stiffness) and weight `w = ρ g` per area has
+  `c = (B / w)^(1/3)` (Euler's beam; the standard's 41.5° is where `l = 2c`). The overhang is
+  `2c` of the fabric, so an exact solver would show 41.5°.
+* **Cusick drape** (ISO 9073-9, BS 5058): a 30 cm disc on an 18 cm support, draped under its own
+  weight; the drape coefficient is `DC = (A_s − A_d) / (A_D − A_d)`, the shadow area `A_s`
+  between the support's `A_d` and the flat disc's `A_D` (1: stiff as a board, 0: hanging
+  straight down). The support is modelled as clamped (the test sandwiches the specimen between
+  two 18 cm discs): its particles are pinned. No closed form exists, so the reference is the same
+  scene solved with many more iterations.
+
+Each is run at the Final preset (8 substeps × 15 iterations) and with 8 × `--reference-iterations`
+(default 400) for a converged reference, through the module (`tailor.Simulation`), for each of a
+few parameter sets spanning light to heavy fabrics. These are the solver's test cases, not
+measured fabrics: a fabric library with sourced values is still issue 28's to build.
+
+    python bench/fabric/standard_tests.py [--frames 150] [--reference-iterations 400] [--only cantilever|cusick]
+
+Prints one Markdown table per test.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+
+import tailor
+
+G = 9.81
+#: The parameter sets: (name, density kg/m², bending stiffness N·m). Light, medium (the default
+#: fabric's) and heavy, a decade of bending apart.
+FABRICS = (("light", 0.06, 2e-6), ("medium (default)", 0.15, 2e-5), ("heavy", 0.35, 2e-4))
+#: The default fabric's in-plane stiffness (N/m) for every set: the tests load bending.
+STRETCH, SHEAR = 600.0, 60.0
+
+
+def piece_mesh(outline: np.ndarray, edge: float, name: str):
+    piece = tailor.Piece.from_json(json.dumps({"name": name, "outline": np.asarray(outline).tolist(),
+                                               "fixed_vertices": [], "edges": [], "holes": [],
+                                               "internal_lines": [], "notches": []}))
+    return tailor.triangulate(piece, edge=edge)
+
+
+def bending_length_from_angle(overhang: float, theta: float) -> float:
+    """Peirce's formula: the bending length of a strip overhanging by `overhang` whose chord
+    drops `theta` radians below the horizontal."""
+    return overhang * (math.cos(theta / 2.0) / (8.0 * math.tan(theta))) ** (1.0 / 3.0)
+
+
+def beam_bending_length(bend: float, density: float) -> float:
+    """`c = (B / (ρ g))^(1/3)`, metres."""
+    return (bend / (density * G)) ** (1.0 / 3.0)
+
+
+def settle(sim, frames: int) -> float:
+    t0 = time.perf_counter()
+    for _ in range(frames):
+        sim.step(1.0 / 30.0)
+    return time.perf_counter() - t0
+
+
+def cantilever(density: float, bend: float, iterations: int, frames: int) -> dict:
+    c = beam_bending_length(bend, density)
+    overhang, clamp, width = 2.0 * c, 0.02, 0.025
+    edge = min(overhang / 24.0, 0.005)
+    outline = np.array([[-clamp, 0.0], [overhang, 0.0], [overhang, width], [-clamp, width]])
+    mesh = piece_mesh(outline, edge, "strip")
+    rest = np.asarray(mesh.rest, np.float32)
+    pos = np.column_stack([rest, np.zeros(len(rest), np.float32)])
+    settings = tailor.Settings(substeps=8, iterations=iterations, air_damping=2.0)
+    sim = tailor.Simulation(pos, mesh.triangles, rest, tailor.Fabric(density=density, stretch=STRETCH, shear=SHEAR,
+                                                                    bend=bend), settings)
+    sim.pin(np.flatnonzero(rest[:, 0] <= 1e-6).astype(np.uint32))
+    seconds = settle(sim, frames)
+    x = np.asarray(sim.positions)
+    tip = x[rest[:, 0] >= overhang - 1e-6].mean(axis=0)
+    theta = math.atan2(-tip[2], tip[0])
+    return {"c_beam": c, "overhang": overhang, "theta_deg": math.degrees(theta),
+            "c": bending_length_from_angle(overhang, theta) if 0 < theta < math.pi / 2 else float("nan"),
+            "particles": len(rest), "seconds": seconds}
+
+
+def shadow_area(x: np.ndarray, triangles: np.ndarray, half: float, cell: float = 1e-3) -> float:
+    """Area of the union of the triangles projected onto the horizontal (z) plane, rasterised
+    on a grid of `cell` over the square of half-width `half` round the origin."""
+    n = int(round(2 * half / cell))
+    centres = (np.arange(n) + 0.5) * cell - half
+    covered = np.zeros((n, n), bool)
+    p = x[:, :2]
+    for a, b, c in p[triangles]:
+        lo = np.floor((np.minimum(np.minimum(a, b), c) + half) / cell).astype(int).clip(0, n - 1)
+        hi = np.ceil((np.maximum(np.maximum(a, b), c) + half) / cell).astype(int).clip(0, n - 1)
+        gx, gy = np.meshgrid(centres[lo[0]:hi[0] + 1], centres[lo[1]:hi[1] + 1], indexing="ij")
+        q = np.stack([gx, gy], -1)
+        d1 = np.cross(b - a, q - a)
+        d2 = np.cross(c - b, q - b)
+        d3 = np.cross(a - c, q - c)
+        inside = ((d1 >= 0) & (d2 >= 0) & (d3 >= 0)) | ((d1 <= 0) & (d2 <= 0) & (d3 <= 0))
+        covered[lo[0]:hi[0] + 1, lo[1]:hi[1] + 1] |= inside
+    return float(covered.sum()) * cell * cell
+
+
+def drape_coefficient(shadow: float, specimen_radius: float = 0.15, support_radius: float = 0.09) -> float:
+    a_disc, a_support = math.pi * specimen_radius ** 2, math.pi * support_radius ** 2
+    return (shadow - a_support) / (a_disc - a_support)
+
+
+def cusick(density: float, bend: float, iterations: int, frames: int, edge: float = 0.01) -> dict:
+    t = np.linspace(0.0, 2 * math.pi, 189, endpoint=False)
+    mesh = piece_mesh(np.column_stack([0.15 * np.cos(t), 0.15 * np.sin(t)]), edge, "disc")
+    rest = np.asarray(mesh.rest, np.float32)
+    pos = np.column_stack([rest, np.zeros(len(rest), np.float32)])
+    settings = tailor.Settings(substeps=8, iterations=iterations, air_damping=2.0)
+    sim = tailor.Simulation(pos, mesh.triangles, rest, tailor.Fabric(density=density, stretch=STRETCH, shear=SHEAR,
+                                                                    bend=bend), settings)
+    sim.pin(np.flatnonzero(np.linalg.norm(rest, axis=1) <= 0.09).astype(np.uint32))
+    seconds = settle(sim, frames)
+    x = np.asarray(sim.positions)
+    dc = drape_coefficient(shadow_area(x, np.asarray(mesh.triangles), 0.16))
+    return {"dc": dc, "particles": len(rest), "seconds": seconds}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--frames", type=int, default=150, help="frames of 1/30 s to settle (default 150: 5 s)")
+    ap.add_argument("--reference-iterations", type=int, default=400)
+    ap.add_argument("--only", choices=("cantilever", "cusick"))
+    args = ap.parse_args(argv)
+    final = tailor.Settings.preset("final").iterations
+    if args.only != "cusick":
+        print("Cantilever (ASTM D1388): bending length c, beam theory against the simulation at Final "
+              f"(8 x {final}) and with 8 x {args.reference_iterations} iterations\n")
+        print("| fabric | density kg/m² | bending N·m | c, beam | θ Final | c Final | error | θ reference | c reference | "
+              "error | particles |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for name, rho, bend in FABRICS:
+            f = cantilever(rho, bend, final, args.frames)
+            r = cantilever(rho, bend, args.reference_iterations, args.frames)
+            print(f"| {name} | {rho} | {bend:g} | {f['c_beam'] * 100:.2f} cm | {f['theta_deg']:.1f}° | "
+                  f"{f['c'] * 100:.2f} cm | {100 * (f['c'] / f['c_beam'] - 1):+.0f} % | {r['theta_deg']:.1f}° | "
+                  f"{r['c'] * 100:.2f} cm | {100 * (r['c'] / r['c_beam'] - 1):+.0f} % | {f['particles']} |", flush=True)
+        print()
+    if args.only != "cantilever":
+        print("Cusick drape (30 cm disc, 18 cm support): drape coefficient at Final "
+              f"(8 x {final}) against 8 x {args.reference_iterations} iterations\n")
+        print("| fabric | density kg/m² | bending N·m | DC Final | DC reference | difference | particles | "
+              "s Final / reference |")
+        print("|---|---:|---:|---:|---:|---:|---:|---|")
+        for name, rho, bend in FABRICS:
+            f = cusick(rho, bend, final, args.frames)
+            r = cusick(rho, bend, args.reference_iterations, args.frames)
+            print(f"| {name} | {rho} | {bend:g} | {f['dc']:.3f} | {r['dc']:.3f} | {f['dc'] - r['dc']:+.3f} | "
+                  f"{f['particles']} | {f['seconds']:.1f} / {r['seconds']:.1f} |", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -53,6 +53,7 @@ def test_presets_settings_and_backend_passthrough():
         core_sim.preset_values("FAST")
     s = core_sim.SimSettings(substeps=3, iterations=7, gravity=(0, 0, -1), air_damping=0.5).to_tailor()
     assert (s.substeps, s.iterations, s.air_damping) == (3, 7, 0.5) and tuple(s.gravity) == (0, 0, -1)
+    assert not s.two_level and core_sim.SimSettings(two_level=True).to_tailor().two_level  # off unless asked
     with pytest.raises(tailor.InvalidParameterError, match="substeps is 0"):
         core_sim.SimSettings(substeps=0).to_tailor()
     v, t = box()

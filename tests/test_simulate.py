@@ -494,3 +494,21 @@ def test_maps_writes_every_frames_strain_distance_and_pressure(tmp_path):
     bad = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", report, "--maps", maps,
               "-o", tmp_path / "c2.pc2", "--resume")
     assert bad.returncode != 0 and "--resume" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_two_level_runs_the_skirt_on_the_hips_and_the_report_says_so(tmp_path):
+    """`--two-level` (the two-level global step, `Settings.two_level`) drapes the skirt on the
+    hips as the plain step does (it passes its checks) and the report records the setting; a
+    run without it records False."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.05", "-o", garment).returncode == 0
+    body = tmp_path / "hips.obj"
+    write_sphere_obj(body, (0.0, 0.75, 0.0), 0.25)
+    for flag, expect in ((["--two-level"], True), ([], False)):
+        report = tmp_path / f"report-{expect}.json"
+        r = cli("simulate", garment, "--collider", body, "--frames", "30", "--report", report, *flag)
+        assert r.returncode == 0, (r.stdout[-2000:], r.stderr)
+        doc = json.loads(report.read_text())
+        assert doc["two_level"] is expect and doc["summary"]["verdict"] == [], doc["summary"]
+    assert tailor.Settings(two_level=True).two_level and not tailor.Settings().two_level
+    assert not tailor.Settings.preset("final").two_level  # opt-in: the GPU has no two-level step yet

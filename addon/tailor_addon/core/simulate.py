@@ -56,6 +56,7 @@ class SimSettings:
     substeps: int = _FINAL.substeps
     iterations: int = _FINAL.iterations
     tolerance: float = _FINAL.tolerance
+    two_level: bool = False  # the two-level global step (tailor.Settings.two_level; CPU only)
     backend: str = "auto"  # auto | cpu | gpu
     threads: int | None = None  # the solver's CPU threads (None: one per core)
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
@@ -87,6 +88,7 @@ class SimSettings:
             tolerance=float(self.tolerance),
             gravity=tuple(float(g) for g in self.gravity),
             ramp_enabled=bool(self.ramp_enabled),
+            two_level=bool(self.two_level),
         )
         for name in ("air_damping", "ramp_closing_speed", "ramp_closing_damping"):
             v = getattr(self, name)

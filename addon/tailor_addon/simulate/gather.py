@@ -23,6 +23,7 @@ def sim_settings(scene) -> SimSettings:
         substeps=s.substeps,
         iterations=s.iterations,
         tolerance=s.tolerance,
+        two_level=s.two_level,
         backend=preferences.backend(scene),
         threads=preferences.threads(),
         gravity=scene_gravity(scene),

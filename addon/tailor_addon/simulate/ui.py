@@ -78,6 +78,7 @@ class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
         col.prop(s, "substeps")
         col.prop(s, "iterations")
         col.prop(s, "tolerance")
+        layout.prop(s, "two_level")
         layout.prop(s, "backend")
         if s.adapter:
             layout.label(text=f"Adapter: {s.adapter}", icon="MEMORY")

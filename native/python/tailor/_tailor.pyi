@@ -67,6 +67,8 @@ class Settings:
     ramp_closing_hold_distance: float
     chebyshev_rho: float | None
     colouring_seed: int
+    # The two-level global step (coarse-grid correction; CPU only).
+    two_level: bool
     def __init__(self, **kwargs: Any) -> None: ...
     @staticmethod
     def preset(name: str) -> Settings: ...

@@ -376,6 +376,17 @@ fn unsupported_frames_run_on_the_cpu_one_frame_at_a_time() {
     assert!(w.contains("this frame ran on the CPU") && w.contains("Jacobi"), "{w}");
     assert_eq!(g.active_backend(), ActiveBackend::Gpu, "one refusal does not drop the GPU");
     assert_eq!(cpu.state_hash(), g.simulation().state_hash(), "the CPU frame is the CPU step exactly");
+    // The two-level global step (CPU only) likewise.
+    let mut two_level = settings.clone();
+    (two_level.method, two_level.two_level) = (Method::Chebyshev, true);
+    g.edit(|s| s.set_settings(two_level.clone())).unwrap();
+    cpu.set_settings(two_level).unwrap();
+    let st = g.step(1.0 / 30.0).unwrap();
+    cpu.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Cpu);
+    let w = st.warning.unwrap();
+    assert!(w.contains("two-level"), "{w}");
+    assert_eq!(cpu.state_hash(), g.simulation().state_hash(), "the CPU frame is the CPU step exactly");
     // Supported again: the next frame is the GPU's, from the state the CPU left.
     settings.method = Method::GaussSeidel;
     g.edit(|s| s.set_settings(settings.clone())).unwrap();

@@ -88,6 +88,9 @@ pub struct Settings {
     /// Fixed Chebyshev spectral radius; None = measured automatically.
     pub chebyshev_rho: Option<f32>,
     pub colouring_seed: u64,
+    /// The two-level global step: a coarse-grid correction every few sweeps, so that bending
+    /// and large-scale stretch converge (CPU only; a GPU frame with it runs on the CPU).
+    pub two_level: bool,
 }
 
 /// The settings' field names, as the errors of `Settings(**kwargs)` name them.
@@ -110,6 +113,7 @@ const SETTINGS_FIELDS: &[&str] = &[
     "ramp_closing_hold_distance",
     "chebyshev_rho",
     "colouring_seed",
+    "two_level",
 ];
 
 #[pymethods]
@@ -185,6 +189,7 @@ impl From<&core::SolverSettings> for Settings {
             ramp_closing_hold_distance: s.ramp.closing_hold_distance,
             chebyshev_rho: s.chebyshev.rho,
             colouring_seed: s.colouring_seed,
+            two_level: s.two_level,
         }
     }
 }
@@ -213,6 +218,7 @@ impl Settings {
             },
             chebyshev: core::ChebyshevSettings { rho: self.chebyshev_rho, ..d.chebyshev },
             colouring_seed: self.colouring_seed,
+            two_level: self.two_level,
             ..d
         })
     }

@@ -61,7 +61,8 @@ collision levels, friction, mass and bend scales), thickness, self-collision wit
 the cloth's friction, the collider's collision levels, and painted pins, which ride on the
 collider once every seam has met. ``--thickness`` and ``--self-collision`` override the file's.
 ``--preset`` (default ``final``) gives substeps, iterations and tolerance, as the add-on's
-Quality does (``tailor.Settings.preset``); ``--substeps`` and ``--iterations`` override it.
+Quality does (``tailor.Settings.preset``); ``--substeps`` and ``--iterations`` override it;
+``--two-level`` adds the two-level global step (``Settings.two_level``).
 """
 
 from __future__ import annotations
@@ -123,6 +124,9 @@ def register(sub):
                    help="quality preset: substeps, iterations and tolerance (default final, as the add-on)")
     p.add_argument("--substeps", type=int, help="solver substeps per frame (default: the preset's)")
     p.add_argument("--iterations", type=int, help="solver iterations per substep (default: the preset's)")
+    p.add_argument("--two-level", action="store_true",
+                   help="the two-level global step: a coarse-grid correction after each sweep, so that bending and "
+                        "large-scale stretch converge (CPU only; docs/accuracy.md)")
     p.add_argument("--thickness", type=float, help="collision thickness, metres (default: the garment file's)")
     p.add_argument("--self-collision", action="store_true", default=None,
                    help="turn on cloth self-collision (default: as the garment file says, else off)")
@@ -164,7 +168,7 @@ def run(args):
     settings = tailor.Settings(
         substeps=preset.substeps if args.substeps is None else args.substeps,
         iterations=preset.iterations if args.iterations is None else args.iterations,
-        tolerance=preset.tolerance, gravity=gravity)
+        tolerance=preset.tolerance, gravity=gravity, two_level=args.two_level)
     if args.resume and not args.output:
         raise tailor.InvalidParameterError("--resume needs -o CACHE.pc2: the frames it goes on from")
     motion = ColliderMotion(args.collider, args.collider_anim, animation=args.animation, fps=args.fps,
@@ -244,7 +248,7 @@ def run(args):
         summary = bake.summarize(frames)
         doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend, "threads": sim.threads,
                "adapter": sim.adapter, "gpu_setup": sim.gpu_setup, **setup, "pins_attached": bool(pins.attached), "up": up,
-               "collider_up": collider_up, "assembly": assembly, "complete": complete}
+               "collider_up": collider_up, "assembly": assembly, "two_level": settings.two_level, "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)
         tmp = args.report + ".tmp"
         with open(tmp, "w") as fh:

@@ -27,6 +27,9 @@ impl GpuSolver {
         if view.settings.method == Method::Jacobi {
             return Some("the Jacobi method".into());
         }
+        if view.settings.two_level {
+            return Some("the two-level global step (CPU only)".into());
+        }
         // One dimension of dispatches covers 65535 workgroups of 64.
         let m = view.model;
         const DISPATCH: usize = 65_535 * 64;

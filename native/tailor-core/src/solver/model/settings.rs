@@ -171,6 +171,11 @@ pub struct SolverSettings {
     pub jacobi_relaxation: f32,
     /// Seed of the randomized graph colouring (the result is deterministic for a seed).
     pub colouring_seed: u64,
+    /// The two-level global step (`stages/coarse.rs`): every few sweeps, the error's smooth
+    /// part is solved for on a coarse grid of particle aggregates, so that bending and the
+    /// garment's large-scale stretch converge at the resolutions garments are meshed at. CPU
+    /// only: a GPU frame with it runs on the CPU.
+    pub two_level: bool,
 }
 
 impl Default for SolverSettings {
@@ -186,6 +191,7 @@ impl Default for SolverSettings {
             chebyshev: ChebyshevSettings::default(),
             jacobi_relaxation: 0.66,
             colouring_seed: 0x7a11_0c0d,
+            two_level: false,
         }
     }
 }

@@ -68,6 +68,8 @@ pub struct Simulation {
     pub(crate) ramp: Ramp,
     pub(crate) cheb: Chebyshev,
     free: Vec<u32>,
+    /// The two-level global step's coarse grid (`stages/coarse.rs`), when it is on.
+    pub(crate) coarse: Option<crate::solver::stages::coarse::CoarseLevel>,
     pub(crate) h_prepared: f32,
     /// Some seam pair still has a non-zero closing rest length.
     seams_closing: bool,
@@ -121,6 +123,7 @@ impl Simulation {
             ramp: Ramp::default(),
             cheb: Chebyshev::default(),
             free: Vec::new(),
+            coarse: None,
             h_prepared: 0.0,
             seams_closing: false,
             closing_gap0: Vec::new(),
@@ -192,6 +195,7 @@ impl Simulation {
             + self.contacts.memory_bytes()
             + self.pin_target.memory_bytes()
             + vec_bytes(&self.free)
+            + self.coarse.as_ref().map_or(0, |c| c.memory_bytes())
             + self.collide.particle_bytes()
     }
 

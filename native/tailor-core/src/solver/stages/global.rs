@@ -58,7 +58,7 @@ impl GlobalSystem<'_> {
     /// the row's diagonal. The sums run in the same order as the scalar formula
     /// `(rhsᵢ + Σ slots − Σⱼ Lᵢⱼ·xⱼ + wᵢ·tᵢ) / (Dᵢ + wᵢ)`, lane by lane.
     #[inline(always)]
-    fn row(&self, i: usize, get: impl Fn(usize) -> Vec3A) -> (Vec3A, f32) {
+    pub(crate) fn row(&self, i: usize, get: impl Fn(usize) -> Vec3A) -> (Vec3A, f32) {
         let m = self.matrix;
         let slots = &self.slot_index[self.slot_offsets[i] as usize..self.slot_offsets[i + 1] as usize];
         let (a, b) = (m.offsets[i] as usize, m.offsets[i + 1] as usize);

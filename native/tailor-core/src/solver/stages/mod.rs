@@ -9,7 +9,8 @@
 //!   positions and hashes of the substep (run by the simulation itself);
 //! * [`Stage::Local`]: contact detection and constraint projections ([`local`]);
 //! * [`Stage::Global`]: one coloured Gauss-Seidel (or Jacobi) sweep ([`global`]), Chebyshev
-//!   extrapolation ([`chebyshev`]), the self-collision pass;
+//!   extrapolation ([`chebyshev`]), the two-level step's coarse correction when it is on
+//!   ([`coarse`]), the self-collision pass;
 //! * [`Stage::Damping`]: penetrations resolved, velocities, friction, air damping and the
 //!   seam-closing ramp ([`damping`]).
 //!
@@ -17,6 +18,7 @@
 //! each of the others runs once per substep.
 
 pub mod chebyshev;
+pub(crate) mod coarse;
 pub mod damping;
 pub(crate) mod global;
 pub(crate) mod local;

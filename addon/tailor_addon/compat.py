@@ -61,42 +61,32 @@ def _unpack(wheel: str, target: str) -> None:
     os.replace(tmp, target)
 
 
-def polyline_shader():
-    """The built-in wide-line shader (uniforms color, viewportSize, lineWidth); it was called
-    '3D_POLYLINE_UNIFORM_COLOR' in older versions, tried second."""
+def _builtin_shader(names: tuple[str, ...], what: str):
+    """The first of `names` that this Blender's `gpu.shader.from_builtin` knows (built-in shaders
+    lost their '3D_' prefix in 4.0: the newer name is tried first)."""
     import gpu
 
-    for name in ("POLYLINE_UNIFORM_COLOR", "3D_POLYLINE_UNIFORM_COLOR"):
+    for name in names:
         try:
             return gpu.shader.from_builtin(name)
         except (ValueError, TypeError):
             continue
-    raise RuntimeError("no polyline shader in this Blender")
+    raise RuntimeError(f"no {what} shader in this Blender")
+
+
+def polyline_shader():
+    """The built-in wide-line shader (uniforms color, viewportSize, lineWidth)."""
+    return _builtin_shader(("POLYLINE_UNIFORM_COLOR", "3D_POLYLINE_UNIFORM_COLOR"), "polyline")
 
 
 def point_shader():
-    """The built-in flat-colour shader with a per-vertex colour ('3D_FLAT_COLOR' in older versions)."""
-    import gpu
-
-    for name in ("FLAT_COLOR", "3D_FLAT_COLOR"):
-        try:
-            return gpu.shader.from_builtin(name)
-        except (ValueError, TypeError):
-            continue
-    raise RuntimeError("no flat-colour shader in this Blender")
+    """The built-in flat-colour shader with a per-vertex colour."""
+    return _builtin_shader(("FLAT_COLOR", "3D_FLAT_COLOR"), "flat-colour")
 
 
 def smooth_colour_shader():
-    """The built-in shader with per-vertex colours interpolated across a triangle
-    ('3D_SMOOTH_COLOR' in older versions)."""
-    import gpu
-
-    for name in ("SMOOTH_COLOR", "3D_SMOOTH_COLOR"):
-        try:
-            return gpu.shader.from_builtin(name)
-        except (ValueError, TypeError):
-            continue
-    raise RuntimeError("no smooth-colour shader in this Blender")
+    """The built-in shader with per-vertex colours interpolated across a triangle."""
+    return _builtin_shader(("SMOOTH_COLOR", "3D_SMOOTH_COLOR"), "smooth-colour")
 
 
 #: Options of a path property that takes "//" (relative to the .blend): 4.5 warns on such a value

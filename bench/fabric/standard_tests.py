@@ -63,6 +63,15 @@ def beam_bending_length(bend: float, density: float) -> float:
     return (bend / (density * G)) ** (1.0 / 3.0)
 
 
+def flat_simulation(mesh, density: float, bend: float, iterations: int, two_level: bool):
+    """`mesh` lying flat at z = 0, of the given fabric, 8 substeps x `iterations`, air damping 2."""
+    rest = np.asarray(mesh.rest, np.float32)
+    pos = np.column_stack([rest, np.zeros(len(rest), np.float32)])
+    settings = tailor.Settings(substeps=8, iterations=iterations, air_damping=2.0, two_level=two_level)
+    fabric = tailor.Fabric(density=density, stretch=STRETCH, shear=SHEAR, bend=bend)
+    return tailor.Simulation(pos, mesh.triangles, rest, fabric, settings), rest
+
+
 def settle(sim, frames: int) -> float:
     t0 = time.perf_counter()
     for _ in range(frames):
@@ -75,12 +84,7 @@ def cantilever(density: float, bend: float, iterations: int, frames: int, two_le
     overhang, clamp, width = 2.0 * c, 0.02, 0.025
     edge = min(overhang / 24.0, 0.005)
     outline = np.array([[-clamp, 0.0], [overhang, 0.0], [overhang, width], [-clamp, width]])
-    mesh = piece_mesh(outline, edge, "strip")
-    rest = np.asarray(mesh.rest, np.float32)
-    pos = np.column_stack([rest, np.zeros(len(rest), np.float32)])
-    settings = tailor.Settings(substeps=8, iterations=iterations, air_damping=2.0, two_level=two_level)
-    sim = tailor.Simulation(pos, mesh.triangles, rest, tailor.Fabric(density=density, stretch=STRETCH, shear=SHEAR,
-                                                                    bend=bend), settings)
+    sim, rest = flat_simulation(piece_mesh(outline, edge, "strip"), density, bend, iterations, two_level)
     sim.pin(np.flatnonzero(rest[:, 0] <= 1e-6).astype(np.uint32))
     seconds = settle(sim, frames)
     x = np.asarray(sim.positions)
@@ -120,16 +124,18 @@ def cusick(density: float, bend: float, iterations: int, frames: int, edge: floa
            two_level: bool = False) -> dict:
     t = np.linspace(0.0, 2 * math.pi, 189, endpoint=False)
     mesh = piece_mesh(np.column_stack([0.15 * np.cos(t), 0.15 * np.sin(t)]), edge, "disc")
-    rest = np.asarray(mesh.rest, np.float32)
-    pos = np.column_stack([rest, np.zeros(len(rest), np.float32)])
-    settings = tailor.Settings(substeps=8, iterations=iterations, air_damping=2.0, two_level=two_level)
-    sim = tailor.Simulation(pos, mesh.triangles, rest, tailor.Fabric(density=density, stretch=STRETCH, shear=SHEAR,
-                                                                    bend=bend), settings)
+    sim, rest = flat_simulation(mesh, density, bend, iterations, two_level)
     sim.pin(np.flatnonzero(np.linalg.norm(rest, axis=1) <= 0.09).astype(np.uint32))
     seconds = settle(sim, frames)
     x = np.asarray(sim.positions)
     dc = drape_coefficient(shadow_area(x, np.asarray(mesh.triangles), 0.16))
     return {"dc": dc, "particles": len(rest), "seconds": seconds}
+
+
+def three_runs(test, density: float, bend: float, final: int, args) -> tuple[dict, dict, dict]:
+    """`test` at Final, at Final with the two-level step, and with the reference's iterations."""
+    return (test(density, bend, final, args.frames), test(density, bend, final, args.frames, two_level=True),
+            test(density, bend, args.reference_iterations, args.frames))
 
 
 def main(argv=None) -> int:
@@ -150,9 +156,7 @@ def main(argv=None) -> int:
             return f"{r['theta_deg']:.1f}°, {r['c'] * 100:.2f} cm, {100 * (r['c'] / r['c_beam'] - 1):+.0f} %"
 
         for name, rho, bend in FABRICS:
-            f = cantilever(rho, bend, final, args.frames)
-            t = cantilever(rho, bend, final, args.frames, two_level=True)
-            r = cantilever(rho, bend, args.reference_iterations, args.frames)
+            f, t, r = three_runs(cantilever, rho, bend, final, args)
             print(f"| {name} | {rho} | {bend:g} | {f['c_beam'] * 100:.2f} cm | {cell(f)} | {cell(t)} | {cell(r)} | "
                   f"{f['particles']} |", flush=True)
         print()
@@ -163,9 +167,7 @@ def main(argv=None) -> int:
               "particles | s Final / two-level / reference |")
         print("|---|---:|---:|---:|---:|---:|---:|---|")
         for name, rho, bend in FABRICS:
-            f = cusick(rho, bend, final, args.frames)
-            t = cusick(rho, bend, final, args.frames, two_level=True)
-            r = cusick(rho, bend, args.reference_iterations, args.frames)
+            f, t, r = three_runs(cusick, rho, bend, final, args)
             print(f"| {name} | {rho} | {bend:g} | {f['dc']:.3f} | {t['dc']:.3f} | {r['dc']:.3f} | {f['particles']} | "
                   f"{f['seconds']:.1f} / {t['seconds']:.1f} / {r['seconds']:.1f} |", flush=True)
     return 0

@@ -9,7 +9,7 @@ SOURCES := $(shell find native -name '*.rs' -o -name '*.toml' -o -name '*.py' -o
 ADDON_ZIP := dist/tailor_addon.zip
 ADDON_SOURCES := $(shell find addon -name '*.py' -not -path '*/_vendor/*' -o -name '*.toml')
 
-.PHONY: bench-batch bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon addon-studio bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt profile-live
+.PHONY: bench-fabric bench-batch bench-gpu device-bin fuzz drape-suite demo test test-rust test-python test-addon test-gui addon addon-studio bench setup develop clean samples-character bench-peers bench-addon diagnose-bake bench-error stress samples bench-addon-shirt profile-live
 
 ## Set everything up and run the main job (headless drape of a sewn garment).
 demo: develop
@@ -118,6 +118,10 @@ bench-gpu: develop
 ## The binaries and loaders bench/gpu/on_device.sh needs on a lent GPU machine (docs/gpu.md).
 device-bin: setup
 	bash bench/gpu/prepare_device.sh
+
+## The cantilever and Cusick drape tests simulated (issue 28): tables to stdout, a few minutes.
+bench-fabric: develop
+	$(PY) bench/fabric/standard_tests.py
 
 bench-error: setup
 	cargo run --release -p tailor-core --example accuracy -- --out out/bench --sizes 1000,10000 --frames 45

@@ -370,6 +370,17 @@ fn the_mesh_broad_phase_spares_tests_without_changing_contacts() {
     assert_eq!(tests + skips + nearest, all_tests, "both runs test the same particle-iterations");
     assert!(contacts > 100, "the scene has too few contacts to mean anything ({contacts})");
     assert!(tests < all_tests / 3, "the broad phase spared only {} of {all_tests} full tests", all_tests - tests);
+    // The budget holds with the two-level step's coarse grid too (the aggregates, the map of
+    // the fine matrix's entries onto the coarse one, the residual).
+    let (p, r, t) = cloth_grid(0.8, 24, 0.05, 0.0, 0.33);
+    let mut sim = sim_of(p, r, t, SolverSettings { two_level: true, ..Default::default() });
+    sim.add_mesh_collider(&sv, &st, MeshColliderOptions::default()).unwrap();
+    for _ in 0..3 {
+        sim.step(1.0 / FPS).unwrap();
+    }
+    let two_level = sim.memory_bytes() as f64 / sim.num_particles() as f64;
+    println!("with the two-level step: {two_level:.0} B per particle");
+    assert!(two_level < 1024.0, "with the two-level step the state takes {two_level:.0} B per particle");
     assert!(skips > 0 && nearest > 0, "one kind of reuse never happened: {skips} skipped, {nearest} from shortlists");
 }
 

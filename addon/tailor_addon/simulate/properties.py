@@ -88,7 +88,7 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         name="Two-Level Solve",
         description="After each sweep, correct the smooth part of the error on a coarse grid, so that bending and "
         "the garment's large-scale stretch converge (stiffer, truer drape; about 1.2-1.5x the frame time). "
-        "Runs on the CPU: a GPU backend solves such frames on the CPU",
+        "Runs on the CPU: a GPU backend solves such frames on the CPU. Not applied while self-collision is on",
         default=False,
     )
     # Numbered: files saved before "Preferences" was added keep their Auto/CPU/GPU.

@@ -314,3 +314,26 @@ fn the_two_level_step_brings_the_cantilever_towards_beam_theory() {
     assert!(plain < 0.35, "plain Final: bending length {plain} of the beam's");
     assert!((0.67..1.1).contains(&two_level), "two-level Final: bending length {two_level} of the beam's");
 }
+
+/// With self-collision on, the two-level step is not applied (its correction undid the
+/// self-collision pass on the layered outfit): the same frames bit for bit as without it.
+#[test]
+fn the_two_level_step_stands_aside_for_self_collision() {
+    use tailor_core::solver::SelfCollisionSettings;
+    let run = |two_level: bool, self_collision: bool| {
+        let (rest, tris) = rectangle(0.3, 0.3, 12, 12);
+        let mesh = ClothMesh::new(rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest.clone(), tris).unwrap();
+        let settings = SolverSettings { two_level, ..SolverSettings::default() };
+        let mut sim = Simulation::new(mesh, Fabric::default(), settings).unwrap();
+        sim.pin(&[0, 12], None).unwrap();
+        if self_collision {
+            sim.set_self_collision(SelfCollisionSettings { enabled: true, ..Default::default() }).unwrap();
+        }
+        for _ in 0..10 {
+            sim.step(1.0 / 30.0).unwrap();
+        }
+        sim.state_hash()
+    };
+    assert_eq!(run(true, true), run(false, true), "applied with self-collision on");
+    assert_ne!(run(true, false), run(false, false), "the two-level step did nothing at all");
+}

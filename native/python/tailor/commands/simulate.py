@@ -169,6 +169,8 @@ def run(args):
         substeps=preset.substeps if args.substeps is None else args.substeps,
         iterations=preset.iterations if args.iterations is None else args.iterations,
         tolerance=preset.tolerance, gravity=gravity, two_level=args.two_level)
+    if args.two_level and (args.self_collision or garment.setup.get("self_collision")):
+        print("note: the two-level step is not applied while self-collision is on (docs/accuracy.md)")
     if args.resume and not args.output:
         raise tailor.InvalidParameterError("--resume needs -o CACHE.pc2: the frames it goes on from")
     motion = ColliderMotion(args.collider, args.collider_anim, animation=args.animation, fps=args.fps,

@@ -174,7 +174,8 @@ pub struct SolverSettings {
     /// The two-level global step (`stages/coarse.rs`): every few sweeps, the error's smooth
     /// part is solved for on a coarse grid of particle aggregates, so that bending and the
     /// garment's large-scale stretch converge at the resolutions garments are meshed at. CPU
-    /// only: a GPU frame with it runs on the CPU.
+    /// only: a GPU frame with it runs on the CPU. Not applied while self-collision is on (its
+    /// pass and the correction work against each other: measured on the layered outfit).
     pub two_level: bool,
 }
 

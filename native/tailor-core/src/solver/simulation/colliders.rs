@@ -181,6 +181,7 @@ impl Simulation {
         self.sleep.wake();
         s.validate()?;
         self.collide.self_settings = s;
+        self.h_prepared = 0.0; // the two-level step is on only without self-collision
         Ok(())
     }
 

@@ -134,7 +134,10 @@ impl Simulation {
             self.slots = vec![Vec3A::ZERO; m.slots.total];
             self.free = m.colouring.groups.iter().flatten().copied().collect();
             self.free.sort_unstable();
-            if !self.settings.two_level {
+            // Not with self-collision: its pass moves particles outside the linear system, and the
+            // coarse correction, seeing that as error, undid it (the layered outfit's walk: 11
+            // particles 26 mm inside the body, 3007 crossing pairs against 0 and 1015).
+            if !self.settings.two_level || self.collide.self_settings.enabled {
                 self.coarse = None;
             } else {
                 if rebuilt || self.coarse.is_none() {

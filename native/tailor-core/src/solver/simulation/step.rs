@@ -19,12 +19,11 @@ use crate::solver::stages::local::project_all;
 use crate::solver::stages::{Stage, StageTimings, STAGES};
 use crate::solver::stats::StepStats;
 
-/// The two-level step's coarse correction follows every this many sweeps, with at most this
-/// many diagonally preconditioned conjugate-gradient iterations on the coarse grid. Measured on
-/// the cantilever of `tests/solver_physics.rs` at Final (the chord's angle; beam theory 41.5°,
-/// plain 89.5°): after every sweep 55.6°, every second 71.6°, every third 79.2°; 5 iterations
-/// 78.7°, 10 and 30 both 55.6° (without the preconditioner 10 gave 70.1°).
-const COARSE_EVERY: u32 = 1;
+/// The two-level step's coarse correction follows every sweep, with at most this many
+/// diagonally preconditioned conjugate-gradient iterations on the coarse grid. Measured on the
+/// cantilever of `tests/solver_physics.rs` at Final (the chord's angle; beam theory 41.5°, plain
+/// 89.5°): after every sweep 55.6°, every second 71.6°, every third 79.2°; 5 iterations 78.7°,
+/// 10 and 30 both 55.6° (without the preconditioner 10 gave 70.1°).
 const COARSE_CG_ITERATIONS: usize = 10;
 
 /// Power-iteration sweeps that measure Chebyshev's spectral radius (see `stages/chebyshev.rs`).
@@ -285,7 +284,7 @@ impl Simulation {
                     n
                 }
             };
-            if let Some(mut c) = self.coarse.take_if(|_| (k + 1) % COARSE_EVERY == 0) {
+            if let Some(mut c) = self.coarse.take() {
                 let mut x = std::mem::take(&mut self.x);
                 c.correct(&self.global_system(), &mut x, COARSE_CG_ITERATIONS);
                 self.x = x;

@@ -48,6 +48,8 @@ pub(crate) struct CoarseLevel {
     // Scratch.
     diag: Vec<f32>,
     rc: Vec<Vec3A>,
+    /// The inverse of the coarse diagonal (the CG's preconditioner).
+    inv: Vec<f32>,
     e: Vec<Vec3A>,
     p: Vec<Vec3A>,
     q: Vec<Vec3A>,
@@ -151,6 +153,7 @@ impl CoarseLevel {
             + vec_bytes(&self.diag0)
             + vec_bytes(&self.fine_map)
             + vec_bytes(&self.diag)
+            + vec_bytes(&self.inv)
             + [&self.rc, &self.e, &self.p, &self.q, &self.res].iter().map(|v| vec_bytes(v)).sum::<usize>()
     }
 
@@ -232,7 +235,9 @@ impl CoarseLevel {
         let mut r = std::mem::take(&mut self.rc);
         let mut p = std::mem::take(&mut self.p);
         let mut q = std::mem::take(&mut self.q);
-        let inv: Vec<f32> = self.diag.iter().map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 }).collect();
+        let mut inv = std::mem::take(&mut self.inv);
+        inv.clear();
+        inv.extend(self.diag.iter().map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 }));
         p.clear();
         p.extend(r.iter().zip(&inv).map(|(r, i)| *r * *i));
         q.resize(m, Vec3A::ZERO);
@@ -258,7 +263,7 @@ impl CoarseLevel {
             }
             rz = rz_new;
         }
-        (self.rc, self.p, self.q) = (r, p, q);
+        (self.rc, self.p, self.q, self.inv) = (r, p, q, inv);
     }
 }
 

@@ -69,9 +69,65 @@ def test_skirt_on_a_sphere_with_report_and_cache(tmp_path):
     keys = {"frame", "ms", "seam_gap_max_m", "penetration_count", "penetration_max_m", "self_intersections", "strain_max", "nan"}
     assert keys <= set(rep["frames"][0]) and keys <= set(rep["summary"])
     assert not rep["summary"]["nan"]
+    # The cache is the garment welded along its seams (the default for every output), and
+    # beside it the mesh it deforms: as many vertices, in its order.
     c = tailor.read_pc2(cache)
     info = json.loads(cli("info", garment, "--json").stdout)
-    assert c["frames"].shape == (8, sum(p["vertices"] for p in info["pieces"]), 3)
+    v, t = tailor.read_mesh(tmp_path / "skirt.obj")
+    assert c["frames"].shape == (8, len(v), 3) and len(v) < sum(p["vertices"] for p in info["pieces"])
+    assert rep["outputs"] == "welded" and t.max() == len(v) - 1
+
+
+def test_per_piece_writes_the_pieces_as_solved_and_resumes(tmp_path):
+    """`--per-piece`: the cache holds every particle, piece after piece in the garment file's
+    order (the welded cache is those particles welded), its mesh all the pieces, one OBJ a
+    piece and frame, one USD mesh a piece named after it; a killed per-piece run resumes."""
+    from pxr import Usd, UsdGeom
+
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
+    common = ["--collider", body, "--frames", "3", "--preset", "preview"]
+    r = cli("simulate", garment, *common, "--report", tmp_path / "w.json", "-o", tmp_path / "welded.pc2")
+    assert r.returncode in (0, 3), r.stderr
+    r = cli("simulate", garment, *common, "--report", tmp_path / "p.json", "-o", tmp_path / "pieces.pc2",
+            "--per-piece", "--usd", tmp_path / "pieces.usda", "--obj-dir", tmp_path / "objs")
+    assert r.returncode in (0, 3), r.stderr
+    assert json.loads((tmp_path / "p.json").read_text())["outputs"] == "per piece"
+    g = tailor.Garment.load(garment)
+    meshes = g.meshes()
+    sim, _ = g.build_simulation()
+    particles = tailor.read_pc2(tmp_path / "pieces.pc2")["frames"]
+    assert particles.shape == (3, sim.num_particles, 3)
+    w = tailor.weld(sim.positions, sim.triangles, sim.seam_pairs())
+    np.testing.assert_array_equal(tailor.read_pc2(tmp_path / "welded.pc2")["frames"][2], w.apply(particles[2]))
+    v, t = tailor.read_mesh(tmp_path / "pieces.obj")
+    np.testing.assert_array_equal(t, np.asarray(sim.triangles))
+    assert len(v) == sim.num_particles
+    stage = Usd.Stage.Open(str(tmp_path / "pieces.usda"))
+    prims = [p for p in stage.GetPrimAtPath("/Garment").GetChildren()]
+    assert [p.GetName() for p in prims] == [p.name for p in g.pieces]
+    start = 0
+    for piece, mesh, prim in zip(g.pieces, meshes, prims):
+        n = len(mesh.rest)
+        usd_points = np.array(UsdGeom.Mesh(prim).GetPointsAttr().Get(2))
+        np.testing.assert_array_equal(usd_points, particles[1][start:start + n])
+        np.testing.assert_array_equal(np.array(UsdGeom.Mesh(prim).GetFaceVertexIndicesAttr().Get()),
+                                      np.asarray(mesh.triangles).reshape(-1))
+        ov, ot = tailor.read_mesh(tmp_path / "objs" / f"skirt.{piece.name}.0003.obj")
+        np.testing.assert_array_equal(ov, particles[2][start:start + n])
+        start += n
+    # Killed after the first frame's record (kept by hand), the per-piece run resumes to the same cache.
+    whole = (tmp_path / "pieces.pc2").read_bytes()
+    keep = tailor.read_pc2(tmp_path / "pieces.pc2")["frames"][:1]
+    tailor.write_pc2(tmp_path / "cut.pc2", keep, 1.0, 1.0)
+    r = cli("simulate", garment, *common, "--report", tmp_path / "c.json", "-o", tmp_path / "cut.pc2",
+            "--per-piece", "--resume")
+    assert r.returncode in (0, 3), r.stderr
+    assert (tmp_path / "cut.pc2").read_bytes() == whole
+    bad = cli("simulate", garment, *common, "--report", tmp_path / "b.json", "-o", tmp_path / "cut.pc2", "--resume")
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr, bad.stderr  # a per-piece cache is not welded
 
 
 def test_a_skirt_below_the_body_is_reported_as_fallen_and_the_command_fails(tmp_path):
@@ -365,13 +421,14 @@ def test_usd_and_obj_outputs_are_the_welded_garment_with_uvs(tmp_path):
     mesh = UsdGeom.Mesh(stage.GetPrimAtPath("/Garment/skirt"))
     points = mesh.GetPointsAttr()
     assert points.GetTimeSamples() == [float(f) for f in range(1, 13)]
-    frames = tailor.read_pc2(cache)["frames"]
+    frames = tailor.read_pc2(cache)["frames"]  # welded, as every output
     g = tailor.Garment.load(garment)
     sim, _ = g.build_simulation()
     w = tailor.weld(sim.positions, sim.triangles, sim.seam_pairs())
     assert w.num_vertices < sim.num_particles  # welded: the seams' two sides are one
+    assert frames.shape[1] == w.num_vertices
     for f in (1, 7, 12):
-        np.testing.assert_allclose(np.array(points.Get(f)), w.apply(frames[f - 1]), atol=1e-6)
+        np.testing.assert_array_equal(np.array(points.Get(f)), frames[f - 1])
     faces = np.array(mesh.GetFaceVertexIndicesAttr().Get())
     assert len(faces) == 3 * len(w.triangles) and faces.max() == w.num_vertices - 1
     st = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("st")
@@ -379,7 +436,7 @@ def test_usd_and_obj_outputs_are_the_welded_garment_with_uvs(tmp_path):
     objs = sorted((tmp_path / "objs").glob("skirt.*.obj"))
     assert [o.name for o in objs] == [f"skirt.{f:04d}.obj" for f in range(1, 13)]
     v, t = tailor.read_mesh(objs[6])
-    np.testing.assert_array_equal(v, w.apply(frames[6]))
+    np.testing.assert_array_equal(v, frames[6])
     np.testing.assert_array_equal(t, w.triangles)
     assert sum(line.startswith("vt ") for line in objs[6].read_text().splitlines()) == len(faces)
     r = cli("simulate", garment, "--collider", body, "--frames", "1", "--report", tmp_path / "r2.json",
@@ -482,7 +539,7 @@ def test_maps_writes_every_frames_strain_distance_and_pressure(tmp_path):
     assert r.returncode in (0, FAILED_CHECKS), r.stderr  # the skirt on a ball may fail a check; no error
     z = np.load(maps)
     frames = json.load(open(report))["frames"]
-    n = np.asarray(tailor.read_pc2(tmp_path / "c.pc2")["frames"]).shape[1]
+    n = tailor.Garment.load(garment).build_simulation()[0].num_particles  # the maps are per particle
     assert {k: z[k].shape for k in z} == {k: (3, n) for k in ("strain", "distance", "pressure")}
     assert all(np.isfinite(z[k]).all() for k in z)
     last = frames[-1]["fit"]
@@ -512,3 +569,30 @@ def test_two_level_runs_the_skirt_on_the_hips_and_the_report_says_so(tmp_path):
         assert doc["two_level"] is expect and doc["summary"]["verdict"] == [], doc["summary"]
     assert tailor.Settings(two_level=True).two_level and not tailor.Settings().two_level
     assert not tailor.Settings.preset("final").two_level  # opt-in: the GPU has no two-level step yet
+
+
+def test_set_thickness_marks_every_mesh_of_a_usd_file_another_exporter_wrote(tmp_path):
+    """`tailor.usd.set_thickness` (the add-on's USD export through Blender's exporter): the
+    constant primvar `tailor_thickness` on every mesh, saved; a file USD cannot open and a
+    negative thickness are errors that say what."""
+    from pxr import Usd, UsdGeom
+
+    from tailor.usd import set_thickness
+
+    path = tmp_path / "two.usda"
+    stage = Usd.Stage.CreateNew(str(path))
+    for name in ("a", "b"):
+        UsdGeom.Mesh.Define(stage, f"/Root/{name}")
+    UsdGeom.Xform.Define(stage, "/Root/empty")
+    stage.GetRootLayer().Save()
+    assert set_thickness(path, 0.004) == 2
+    back = Usd.Stage.Open(str(path))
+    for name in ("a", "b"):
+        pv = UsdGeom.PrimvarsAPI(back.GetPrimAtPath(f"/Root/{name}")).GetPrimvar("tailor_thickness")
+        assert pv.GetInterpolation() == UsdGeom.Tokens.constant and pv.Get() == pytest.approx(0.004)
+    junk = tmp_path / "junk.usda"
+    junk.write_text("not usd at all")
+    with pytest.raises(Exception, match="junk.usda"):
+        set_thickness(junk, 0.004)
+    with pytest.raises(ValueError, match="thickness"):
+        set_thickness(path, -1.0)

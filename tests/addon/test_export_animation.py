@@ -71,11 +71,50 @@ def test_the_welded_animation_reads_back_frame_by_frame(baked, addon, tmp_path, 
         np.testing.assert_allclose(evaluated(read), frames[k], atol=1e-4)
         moved = max(moved, float(np.abs(frames[k] - frames[0]).max()))
     assert moved > 1e-3, "the exported garment does not move over the frames"
+    if fmt == "USD":  # the thickness the cloth kept from the body, as `tailor simulate --usd` writes it
+        from pxr import Usd, UsdGeom
+
+        stage = Usd.Stage.Open(str(path))
+        (mesh,) = [p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]
+        primvar = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("tailor_thickness")
+        assert primvar.GetInterpolation() == UsdGeom.Tokens.constant
+        assert primvar.Get() == pytest.approx(scene.tailor_simulate.thickness)
     # A second export is an object of its own with a cache of its own: the first plays on.
     again = export(export_format="NONE")
     assert again.name != obj.name and (tmp_path / "tailor_cache" / f"{bpy.path.clean_name(again.name)}.pc2").is_file()
     scene.frame_set(FRAMES[1])
     np.testing.assert_allclose(evaluated(obj), frames[-1], atol=1e-5)
+
+
+@pytest.mark.parametrize("fmt", ["ABC", "USD"])
+def test_per_piece_writes_the_pieces_as_the_bake_plays_them(baked, addon, tmp_path, fmt):
+    """Per Piece: each piece object its own mesh in the file, frame by frame as it plays the
+    bake, and nothing added to the scene; Object Only per piece is refused (nothing to do)."""
+    scene, pieces = baked["scene"], baked["pieces"]
+    path = tmp_path / f"pieces.{'abc' if fmt == 'ABC' else 'usdc'}"
+    before = set(bpy.data.objects)
+    assert bpy.ops.tailor.export_animation(export_format=fmt, filepath=str(path), per_piece=True) == {"FINISHED"}
+    assert set(bpy.data.objects) == before and path.is_file()
+    expected = {}
+    for f in FRAMES:
+        scene.frame_set(f)
+        expected[f] = {p.name: evaluated(p) for p in pieces}
+    op = bpy.ops.wm.alembic_import if fmt == "ABC" else bpy.ops.wm.usd_import
+    assert op(filepath=str(path)) == {"FINISHED"}
+    read = [o for o in set(bpy.data.objects) - before if o.type == "MESH"]
+    assert len(read) == len(pieces)
+    by_count = {}
+    for o in read:
+        by_count.setdefault(len(o.data.vertices), []).append(o)
+    for f in FRAMES:
+        scene.frame_set(f)
+        for p in pieces:
+            # Matched by name (the importers keep the object's or its mesh's), else by vertex count.
+            twin = next((o for o in read if p.name in o.name or p.data.name in o.name), None)
+            twin = twin or by_count[len(p.data.vertices)][0]
+            np.testing.assert_allclose(evaluated(twin), expected[f][p.name], atol=1e-4)
+    with pytest.raises(RuntimeError, match="Per Piece with Object Only"):
+        bpy.ops.tailor.export_animation(export_format="NONE", per_piece=True)
 
 
 def test_an_unbaked_garment_is_refused(addon, tmp_path):

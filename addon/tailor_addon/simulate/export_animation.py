@@ -8,7 +8,14 @@ Export Welded Garment does, UVs and materials kept) and each frame of the scene'
 pieces play it (their Mesh Cache, or the joined garment object's), is carried over
 (`WeldedMesh.apply`) into a PC2 cache beside the bake's, named after the welded object and
 played on it by a Mesh Cache modifier: the scene shows what was written. Blender's exporter then writes the object over
-the range (Alembic: `wm.alembic_export`; USD: `wm.usd_export`).
+the range (Alembic: `wm.alembic_export`; USD: `wm.usd_export`). Per Piece writes the piece
+objects instead, as the bake plays them (each its own mesh, as `tailor simulate --per-piece`),
+and adds nothing to the scene.
+
+A USD file also gets the garment's thickness (the distance it was simulated keeping from the
+body) as the constant primvar `tailor_thickness` on its meshes, as `tailor simulate --usd`
+writes it (`tailor.usd.set_thickness`, through the `pxr` Blender bundles), for a render-time
+shell that stays outside the body.
 """
 
 from __future__ import annotations
@@ -17,7 +24,7 @@ import os
 
 import bpy
 import numpy as np
-from bpy.props import EnumProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, StringProperty
 
 from tailor import bake
 
@@ -69,9 +76,10 @@ def play(obj, path: str, start: int) -> None:
     mod.frame_start = float(start)
 
 
-def write_file(context, obj, fmt: str, path: str, start: int, end: int) -> None:
-    """Writes `obj` alone over `start`-`end` with Blender's Alembic or USD exporter."""
-    with alone_selected(context, obj):
+def write_file(context, objs, fmt: str, path: str, start: int, end: int) -> None:
+    """Writes `objs` alone over `start`-`end` with Blender's Alembic or USD exporter (USD: with
+    the scene's thickness on every mesh)."""
+    with alone_selected(context, *objs):
         if fmt == "ABC":
             bpy.ops.wm.alembic_export(filepath=path, start=start, end=end, selected=True, uvs=True,
                                       face_sets=True)
@@ -84,6 +92,25 @@ def write_file(context, obj, fmt: str, path: str, start: int, end: int) -> None:
                                       export_uvmaps=True, export_materials=True)
             finally:
                 scene.frame_start, scene.frame_end = keep
+            mark_thickness(path, scene.tailor_simulate.thickness)
+
+
+def mark_thickness(path: str, thickness: float) -> None:
+    """The garment's thickness on the USD file's meshes (`tailor.usd.set_thickness`)."""
+    from tailor import usd
+
+    if not usd.set_thickness(path, float(thickness)):
+        raise AddonError(f"{os.path.basename(path)}: Blender's USD exporter wrote no mesh",
+                         "Check that the garment's objects are visible and enabled for export")
+
+
+def played_pieces(objects) -> list:
+    """The piece objects when each plays the bake (its Mesh Cache); refused otherwise."""
+    silent = [o.name for o in objects if o.modifiers.get(bake_job.MODIFIER) is None]
+    if silent:
+        raise AddonError(f"pieces {', '.join(silent[:4])}{' ...' if len(silent) > 4 else ''} do not play the bake",
+                         "Bake the garment piece by piece (the default), or turn Per Piece off")
+    return list(objects)
 
 
 class TAILOR_OT_export_animation(bpy.types.Operator):
@@ -99,6 +126,11 @@ class TAILOR_OT_export_animation(bpy.types.Operator):
 
     garment: StringProperty(name="Garment", description="Only this garment's pieces (empty: the Simulate panel's)")
     export_format: EnumProperty(name="Format", items=FORMATS, default="ABC")
+    per_piece: BoolProperty(
+        name="Per Piece", default=False,
+        description="Write the piece objects as the bake plays them, each its own mesh, instead of the garment welded "
+                    "along its seams (the default: one surface, no crack along a seam)",
+    )
     filepath: StringProperty(name="File", subtype="FILE_PATH", description="Where to write the file")
     filter_glob: StringProperty(default="*.abc;*.usdc;*.usd", options={"HIDDEN"})
 
@@ -115,6 +147,14 @@ class TAILOR_OT_export_animation(bpy.types.Operator):
         if self.export_format != "NONE":
             path = output_path(self.filepath, EXTENSIONS[self.export_format], "Format: Object Only")
         start, end = bake_job.frame_range(scene)
+        if self.per_piece:
+            if not path:
+                raise AddonError("Per Piece with Object Only: the pieces already play the bake",
+                                 "Choose Alembic or USD, or turn Per Piece off")
+            pieces = played_pieces(objects)
+            write_file(context, pieces, self.export_format, path, start, end)
+            self.report({"INFO"}, f"{len(pieces)} pieces: frames {start}-{end}; wrote {os.path.basename(path)}")
+            return {"FINISHED"}
         folder = bake_job.cache_folder(scene)
         # The frames are read before the scene changes; the weld is made where the pieces stand.
         obj, w = welded_object(scene, objects, name, garment_name, "animated")
@@ -129,7 +169,7 @@ class TAILOR_OT_export_animation(bpy.types.Operator):
             raise
         play(obj, cache, start)
         if path:
-            removed_on_failure(obj, lambda: write_file(context, obj, self.export_format, path, start, end))
+            removed_on_failure(obj, lambda: write_file(context, [obj], self.export_format, path, start, end))
         where = f"; wrote {os.path.basename(path)}" if path else ""
         self.report({"INFO"}, f"{obj.name}: frames {start}-{end}, {welded.summary(w)}{where}")
         return {"FINISHED"}

@@ -131,18 +131,20 @@ def new_mesh_object(scene, name: str, w, uvs: dict[str, np.ndarray], materials=N
 
 
 @contextmanager
-def alone_selected(context, obj):
-    """`obj` alone selected and active while an exporter writes it (selection restored)."""
+def alone_selected(context, *objs):
+    """`objs` alone selected (the first active) while an exporter writes them (selection restored)."""
     selected = [o for o in context.view_layer.objects if o.select_get()]
     active = context.view_layer.objects.active
     for o in selected:
         o.select_set(False)
-    obj.select_set(True)
-    context.view_layer.objects.active = obj
+    for o in objs:
+        o.select_set(True)
+    context.view_layer.objects.active = objs[0]
     try:
         yield
     finally:
-        obj.select_set(False)
+        for o in objs:
+            o.select_set(False)
         for o in selected:
             o.select_set(True)
         context.view_layer.objects.active = active

@@ -613,11 +613,14 @@ class Bake:
         return True
 
     def replay(self, cached: np.ndarray, collider_positions_at: Callable[[int], Sequence[np.ndarray]],
-               cancel: Callable[[], bool] | None = None, atol: float = 0.0) -> None:
+               cancel: Callable[[], bool] | None = None, atol: float = 0.0,
+               view: Callable[[np.ndarray], np.ndarray] | None = None) -> None:
         """Rebuilds the state at the end of `cached` ((k, n, 3): frames start..start+k-1 of an
         earlier bake with the same garment, colliders and settings) by solving them again, and
         checks that every frame comes out identical (within `atol` metres: a cache stored in
-        another frame of reference has rounding of its own). Raises `SimulationError` when one differs
+        another frame of reference has rounding of its own). `view` turns a frame's particles
+        into what the cache holds (the welded garment's points, ``tailor.export``), when it holds
+        something else than the particles. Raises `SimulationError` when one differs
         (the scene or settings changed since: bake again from the start), `CancelledError` when
         cancelled."""
         cached = np.asarray(cached, np.float32)
@@ -625,7 +628,8 @@ class Bake:
             if cancel is not None and cancel():
                 raise CancelledError(f"resuming stopped while re-solving frame {self.next_frame}")
             self.step(collider_positions_at(self.next_frame))
-            diff = float(np.abs(self.frames[-1] - cached[k]).max()) if self.frames[-1].shape == cached[k].shape else np.inf
+            solved = self.frames[-1] if view is None else view(self.frames[-1])
+            diff = float(np.abs(solved - cached[k]).max()) if solved.shape == cached[k].shape else np.inf
             if not diff <= atol:
                 raise SimulationError(
                     f"the cache differs from a new solve at frame {self.start + k} (by {diff:.3g} m): the garment, "

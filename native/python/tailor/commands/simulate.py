@@ -2,7 +2,7 @@
 
     python -m tailor simulate GARMENT_FILE --collider MESH [--collider-anim CACHE | --animation NAME]
         [--loop] --frames N [--fps 30] [--backend auto|cpu|gpu] [--up y|z] --report REPORT.json
-        [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd] [--obj-dir DIR] [--maps MAPS.npz]
+        [-o CACHE.pc2 [--resume]] [--usd GARMENT.usd] [--obj-dir DIR] [--per-piece] [--maps MAPS.npz]
         [--assemble-at rest|start] [--preroll N] [--transition N] [--assembly-gravity]
 
 MESH is an OBJ, PLY or glTF/GLB file (a glTF's first skin animation plays, or the one
@@ -35,10 +35,19 @@ records carry ``on_body_fraction``, ``centroid_shift_m`` and ``failed``; the sum
 them and its ``verdict``: each failed check with the first frame that failed it and why, printed
 as a ``warning:`` line.
 
-``--usd`` also writes the garment welded along its seams as one USD mesh with time-sampled
-points, normals and the pattern's UVs, and the garment's thickness as the constant primvar
-``tailor_thickness`` (``tailor.usd.UsdCache``; needs PyPI's ``usd-core``), saved every 10 frames and at the end, its up axis the run's. ``--obj-dir`` writes the same welded
-garment as one OBJ a frame (``DIR/GARMENT.0001.obj`` on, with UVs; ``tailor.export``).
+Every output is the garment welded along its seams (``tailor.export.WeldedGarment``: one
+surface, no crack along a seam), unless ``--per-piece`` asks for the pieces as the solver holds
+them (``tailor.export.PieceGarment``: each piece its own mesh, as the add-on's bake plays them).
+``-o CACHE.pc2`` writes the positions of every frame and, beside it, ``CACHE.obj``: the mesh
+the cache deforms (its vertices in the cache's order, with the pattern's UVs, at frame 0), so a
+DCC imports the OBJ and plays the PC2 on it (Blender: a Mesh Cache modifier); per piece, the
+cache holds every particle, piece after piece in the garment file's order, and the OBJ all the
+pieces. ``--usd`` writes one USD mesh (a mesh per piece under ``/Garment`` with
+``--per-piece``) with time-sampled points, normals and the pattern's UVs, and the garment's
+thickness as the constant primvar ``tailor_thickness`` (``tailor.usd.UsdCache``; needs PyPI's
+``usd-core``), saved every 10 frames and at the end, its up axis the run's. ``--obj-dir``
+writes one OBJ a frame (``DIR/GARMENT.0001.obj`` on, with UVs; per piece
+``DIR/GARMENT.PIECE.0001.obj``).
 ``--maps`` writes the fit maps of every frame (``Simulation.fit_maps``: strain, signed distance
 to the collider, pressure) as an .npz of frames x particles, and their summary in each frame's
 record (``"fit"``); not with ``--resume``; with ``--usd`` too, the maps are also time-sampled
@@ -94,11 +103,15 @@ def register(sub):
     p.add_argument("--up", choices=("y", "z"), help="up axis (default: y for OBJ/glTF, z for PLY)")
     p.add_argument("--report", metavar="REPORT.json", required=True)
     p.add_argument("-o", "--output", metavar="CACHE.pc2",
-                   help="write the garment's positions, frame by frame as they are solved")
+                   help="write the garment's positions, frame by frame as they are solved, and beside it CACHE.obj, "
+                        "the mesh the cache deforms (welded along the seams unless --per-piece)")
     p.add_argument("--usd", metavar="GARMENT.usd",
                    help="also write the garment welded along its seams as USD (.usd, .usda or .usdc; needs usd-core)")
     p.add_argument("--obj-dir", metavar="DIR",
                    help="also write the garment welded along its seams as one OBJ a frame (DIR/NAME.0001.obj, ...)")
+    p.add_argument("--per-piece", action="store_true",
+                   help="write -o, --usd and --obj-dir piece by piece as the solver holds them (default: the garment "
+                        "welded along its seams, one surface)")
     p.add_argument("--maps", metavar="MAPS.npz",
                    help="also write the fit maps of every frame (Simulation.fit_maps: strain, signed distance to the "
                         "collider in metres, pressure in pascals), arrays of frames x particles, frame 1 first")
@@ -144,8 +157,13 @@ def run(args):
     tailor.check_playback(args.fps, args.frames)
     inputs = [("GARMENT_FILE", args.garment), ("GARMENT_FILE's sidecar", tailor.sidecar_path(args.garment)),
               ("--collider", args.collider)] + ([("--collider-anim", args.collider_anim)] if args.collider_anim else [])
+    mesh_path = str(Path(args.output).with_suffix(".obj")) if args.output else None
+    if args.output and Path(args.output).suffix.lower() == ".obj":
+        raise tailor.InvalidParameterError(f"-o {args.output}: the cache is a PC2 file (its mesh is written beside it "
+                                           "as .obj)")
     outputs = [("--report", args.report)] + [(flag, path) for flag, path in (("-o", args.output), ("--usd", args.usd),
-                                                                            ("--maps", args.maps)) if path]
+                                                                            ("--maps", args.maps),
+                                                                            ("-o's mesh", mesh_path)) if path]
     tailor.check_outputs(inputs, outputs)
     if args.maps and Path(args.maps).suffix.lower() != ".npz":
         raise tailor.InvalidParameterError(f"--maps {args.maps}: the maps are written as NumPy's .npz")
@@ -191,6 +209,12 @@ def run(args):
                        thickness=args.thickness, self_collision=args.self_collision, collider_friction=None,
                        strict=False)
     sim, cid, pins = d.sim, d.collider, d.pins
+    # What the outputs hold (tailor.export): made from the garment as dressed, before any step,
+    # so a resumed run writes the same vertices in the same order.
+    from tailor.export import PieceGarment, WeldedGarment
+
+    name = Path(args.garment).stem
+    shape = PieceGarment.of_garment(sim, garment) if args.per_piece else WeldedGarment(sim, name)
     if args.threads is not None:
         sim.set_threads(args.threads)
     warnings += d.info["warnings"]
@@ -222,25 +246,29 @@ def run(args):
     frames = []
     cache = None
     if args.resume and os.path.exists(args.output):
-        cache = tailor.Pc2Stream.resume(args.output, sim.num_particles, keep=args.frames)
+        cache = tailor.Pc2Stream.resume(args.output, shape.num_vertices, keep=args.frames)
         done = tailor.read_pc2(args.output)["frames"]
         print(f"resume: solving the {len(done)} frames of {args.output} again and checking them", flush=True)
-        run.replay(done, at)
+        run.replay(done, at, view=shape.points)
         frames = run.records[1:]
     elif args.output:
-        cache = tailor.Pc2Stream(args.output, sim.num_particles, start_frame=1.0, sample_rate=1.0)
+        cache = tailor.Pc2Stream(args.output, shape.num_vertices, start_frame=1.0, sample_rate=1.0)
+    if args.output:
+        from tailor.export import write_mesh
+
+        write_mesh(mesh_path, shape, run.frames[0])
     usd = None
     if args.usd:
         from tailor.usd import UsdCache
 
-        usd = UsdCache(args.usd, sim, start_frame=1.0, fps=args.fps, up=up, name=Path(args.garment).stem,
-                       thickness=setup["thickness_m"])
+        usd = UsdCache(args.usd, sim, start_frame=1.0, fps=args.fps, up=up, name=name,
+                       thickness=setup["thickness_m"], garment=shape)
         usd.add_all(run.frames[1:])  # the frames a resume solved again
     objs = None
     if args.obj_dir:
-        from tailor.export import ObjSequence, WeldedGarment
+        from tailor.export import ObjSequence
 
-        objs = ObjSequence(args.obj_dir, WeldedGarment(sim), name=Path(args.garment).stem)
+        objs = ObjSequence(args.obj_dir, shape, name=name)
         for f in run.frames[1:]:
             objs.add(f)
 
@@ -250,7 +278,8 @@ def run(args):
         summary = bake.summarize(frames)
         doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend, "threads": sim.threads,
                "adapter": sim.adapter, "gpu_setup": sim.gpu_setup, **setup, "pins_attached": bool(pins.attached), "up": up,
-               "collider_up": collider_up, "assembly": assembly, "two_level": settings.two_level, "complete": complete}
+               "collider_up": collider_up, "assembly": assembly, "two_level": settings.two_level,
+               "outputs": "per piece" if args.per_piece else "welded", "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)
         tmp = args.report + ".tmp"
         with open(tmp, "w") as fh:
@@ -267,7 +296,7 @@ def run(args):
             rec = run.record_failure()
         frames.append(rec)
         if cache is not None:
-            cache.push(run.frames[-1])
+            cache.push(shape.points(run.frames[-1]))
         frame_maps = sim.fit_maps(cid) if maps is not None else None
         if usd is not None:
             usd.add(run.frames[-1], frame_maps)

@@ -140,12 +140,14 @@ def test_simulate_runs_every_frame_of_the_tshirt_on_the_gpu_and_agrees_with_the_
             pytest.fail(f"TAILOR_REQUIRE_GPU=1 but no GPU adapter: {gpu['warnings']}")
         pytest.skip(f"no GPU adapter: {gpu['warnings']}")
     cpu = simulate(tmp_path, "cpu")
-    assert gpu["summary"]["backends"] == {"gpu": FRAMES}
+    # Frame 1 is the assembly's end, no step of its own (no backend); every later frame a GPU step.
+    assert gpu["summary"]["backends"] == {"gpu": FRAMES - 1}
     # A fresh process makes the shared GPU context.
     assert gpu["gpu_setup"]["context_made"] is True and cpu["gpu_setup"] is None
-    for f in gpu["frames"]:
+    assert gpu["frames"][0]["start"] and gpu["frames"][0]["backend"] is None
+    for f in gpu["frames"][1:]:
         assert f["backend"] == "gpu" and not f["backend_warning"], f
-    assert cpu["summary"]["backends"] == {"cpu": FRAMES}
+    assert cpu["summary"]["backends"] == {"cpu": FRAMES - 1}
     for run in (gpu, cpu):
         assert run["summary"]["verdict"] == [], run["summary"]
         assert not any(f["seams_closing"] for f in run["frames"][-10:])

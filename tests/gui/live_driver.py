@@ -19,14 +19,16 @@ artist would:
      garment's evaluated world centroid, the plate's location, and the gap since its previous
      call (the UI's responsiveness: timers only run when the main loop is free);
   3. playback is stopped, a screenshot of the view with Live's overlay is taken; playback
-     starts again and an Esc event stops it, not Live; Stop Live (`tailor.live_stop`) ends Live.
+     starts again and an Esc event stops it, not Live; Stop Live (`tailor.live_stop`) ends Live;
+  4. Live is started again and another file opened (`wm.read_homefile`): Blender cancels Live.
 
 Checks: frames were solved and applied while the timeline advanced; the overlay's fps is above
 zero and its text is drawn; the Fit Map (strain) overlay drew both pieces; the garment moved, stayed finite, and followed the plate (its
 centroid moved +x by a good part of the plate's travel and stayed on top of it); the largest
 gap between timer calls stayed under a generous bound (the main thread never waited for a
 solve); Esc stopped playback and left Live running; Stop Live ended Live (its modal operator
-too) and put the pieces' meshes back exactly. Writes `live_result.json` and
+too) and put the pieces' meshes back exactly; opening a file during Live left no session, run,
+overlay or worker thread behind. Writes `live_result.json` and
 `live_mode.png` (+ a 560-pixel `live_mode_small.png` for the docs) into `--out`; exits 0 only
 if every check passed.
 """
@@ -323,6 +325,28 @@ def scenario():
     lit, unlit = bright_pixels(shot, box), bright_pixels(after, box)
     fig.update(overlay_text_pixels=lit, without_overlay=unlit)
     check("the overlay's text is drawn", lit > 200 and lit > 3 * unlit, (lit, unlit))
+
+    # ---- 4. a file opened while Live runs cancels it -------------------------------------------
+    # As an artist opening another file mid-Live: Blender cancels the modal operator (its
+    # `cancel()`) after the load_pre handler ends the run while the old file is still loaded.
+    # Nothing of the old scene is touched after the load (it is gone).
+    runs, draw = addon.simulate.runs, addon.simulate.draw
+    with override():
+        again = bpy.ops.tailor.live("INVOKE_DEFAULT")
+    yield 0.8
+    session = live.SESSIONS.get(scene.name)
+    running = again == {"RUNNING_MODAL"} and session is not None and bool(runs.RUNNING)
+    check("Live runs again", running, (again, list(live.SESSIONS), len(runs.RUNNING)))
+    solver = session.solver
+    with override():
+        bpy.ops.wm.read_homefile()
+    yield 0.6
+    # The solver runs its frames on a native thread (tailor's, not Python's): stopped, with no
+    # frame in progress, it has no work left there.
+    check("opening a file ends Live: no session, no run, no overlay, no worker left",
+          not live.SESSIONS and not runs.RUNNING and draw._handle is None and solver.stopped and not solver.busy,
+          (list(live.SESSIONS), len(runs.RUNNING), draw._handle, solver.stopped, solver.busy))
+    check("the new file has no Live running", not bpy.context.scene.tailor_simulate.live_running)
     RESULT["ok"] = True
 
 
@@ -354,4 +378,5 @@ def step():
     return delay
 
 
-bpy.app.timers.register(step, first_interval=0.5)
+# Persistent: the scenario opens another file at its end (step 4), which would remove it.
+bpy.app.timers.register(step, first_interval=0.5, persistent=True)

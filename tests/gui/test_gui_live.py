@@ -1,7 +1,7 @@
 """Live mode in a real Blender window: runs tests/gui/live_driver.py in Blender under Xvfb (see
 the driver's docstring: the modal `tailor.live` on its timer while the timeline plays, the
 garment following a moving collider (a plate), the UI kept responsive, Esc stopping playback and
-not Live, Stop Live restoring the pieces) and
+not Live, Stop Live restoring the pieces, a file opened mid-Live cancelling it) and
 checks its verdict. Skipped when `blender` or `xvfb-run` is not installed (`.ci/bootstrap`
 installs both); needs the add-on's bundled wheel (`make addon`). Run with `make test-gui`.
 """
@@ -18,7 +18,9 @@ def test_live_mode_follows_the_playing_timeline_in_a_real_window(tmp_path):
     names = {c["what"] for c in result["checks"]}
     for what in ("Live solved and applied frames while it played", "the garment followed the plate (+x)",
                  "the UI kept handling timers (no freeze for a solve)", "Esc stops playback, not Live",
-                 "Stop Live ends Live", "the overlay's text is drawn"):
+                 "Stop Live ends Live", "the overlay's text is drawn", "Live runs again",
+                 "opening a file ends Live: no session, no run, no overlay, no worker left",
+                 "the new file has no Live running"):
         assert what in names
     fig = result["figures"]
     print(f"Live in the window ({result['blender']}): {fig}")

@@ -80,6 +80,11 @@ class LiveSolver:
         self.fit_maps = False
 
     @property
+    def stopped(self) -> bool:
+        """`stop` was called: nothing more is submitted."""
+        return self._stopped
+
+    @property
     def busy(self) -> bool:
         """A frame is in progress."""
         return self._solves is not None

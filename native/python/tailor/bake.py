@@ -125,7 +125,9 @@ def summarize(records: Sequence[dict]) -> dict:
     """Worst case of every quality field over `records` (the largest of `FIELDS`), the mean
     frame time, any NaN, and the garment on the body over the frames `tailor.judge` judges it
     on, the assembled ones (`assembled_frames` of them): the smallest `on_body_fraction` and the
-    largest `centroid_shift_m` (None when no frame is assembled or there is no collider). And the
+    largest `centroid_shift_m` (None when no frame is assembled or there is no collider); `ms`
+    is the mean over the frames that were a step (not the start frame's, which holds the whole
+    assembly, unless it is the only record). And the
     `verdict`: each check that some record failed (in `judge`'s order) with the first frame that
     failed it and that frame's reason, [] when every frame passed. `backends`: how many frames
     each backend solved (records of `Bake.step` carry `backend` and `backend_warning`)."""
@@ -133,7 +135,10 @@ def summarize(records: Sequence[dict]) -> dict:
         return {"frame": 0, "ms": 0.0, "nan": False, **{k: 0 for k in FIELDS}, "assembled_frames": 0,
                 "on_body_fraction": None, "centroid_shift_m": None, "verdict": [], "backends": {}}
     s = {k: max(r[k] for r in records) for k in FIELDS}
-    s.update(frame=len(records), ms=float(np.mean([r["ms"] for r in records])), nan=any(r["nan"] for r in records))
+    # The frame time of the steps: the start frame's time is the whole assembly's (its preroll
+    # and transition, tens of frames), not a frame's.
+    stepped = [r["ms"] for r in records if not r.get("start")] or [r["ms"] for r in records]
+    s.update(frame=len(records), ms=float(np.mean(stepped)), nan=any(r["nan"] for r in records))
     s.update(on_body_worst(records), verdict=verdict_of(records))
     # Frames per backend that solved them ({"cpu": 40, "gpu": 20}), where the records say.
     backends: dict[str, int] = {}
@@ -499,6 +504,7 @@ class Bake:
             rec = frame_record(self.sim, self.next_frame, ms, False, self.metrics_collider, self.start_metrics, m)
         # Which backend solved the frame, and why the CPU did when the GPU was asked for (None:
         # the start frame, solved by no step of its own).
+        rec["start"] = stats is None  # the start frame: the assembly's end, or the garment as given
         rec["backend"] = None if stats is None else stats.get("backend")
         rec["backend_warning"] = None if stats is None else stats.get("warning")
         rec["stages_ms"] = None if stats is None else stage_ms(stats)

@@ -20,14 +20,18 @@ The assembly is the add-on's Bake's (``tailor.bake.Bake``'s preroll and transiti
 defaults): on an animated collider the garment is sewn at the collider's rest pose, the pose its
 patterns were placed for, for at least ``--preroll`` frames (60) and on while its seams close (up
 to 10 s), without gravity unless ``--assembly-gravity``; then ``--transition`` frames (40) move
-the collider into the first frame's pose; frame 0 is the garment as it enters the motion.
+the collider into the first frame's pose; frame 1 is the garment as it enters the motion (the
+assembly's end, with the collider at the motion's first frame, as the add-on's first baked
+frame), and each later frame f one step with the collider at the motion's frame f - 1: the
+add-on's Bake and this command give the same frames (tests/addon/test_cli_parity.py).
 Sewing on the motion's first pose instead put the sample trousers' back piece through the
 calf (29 mm inside the body for good). A still collider has one pose: by default the assembly
 runs in the recorded frames (no preroll). ``--assemble-at start`` assembles on the first frame's
 pose. The report holds one record per frame
-and a summary of the same fields (worst case over the frames, mean frame time).
+and a summary of the same fields (worst case over the frames, mean time of the frames that
+were a step: frame 1's holds the whole assembly).
 
-Every frame is judged by ``tailor.judge`` against the garment as placed (frame 0): whether it
+Every frame is judged by ``tailor.judge`` against the start frame (frame 1): whether it
 fell off the body (its centroid moved over 20 cm on the body, or, assembled, under 50 % of its
 particles lie within 5 cm of the body), a seam is open (over 1 cm once assembled), cloth is
 inside the body (deeper than 1 cm, or over 1 % of the particles) or the solve diverged. The
@@ -39,7 +43,7 @@ Every output is the garment welded along its seams (``tailor.export.WeldedGarmen
 surface, no crack along a seam), unless ``--per-piece`` asks for the pieces as the solver holds
 them (``tailor.export.PieceGarment``: each piece its own mesh, as the add-on's bake plays them).
 ``-o CACHE.pc2`` writes the positions of every frame and, beside it, ``CACHE.obj``: the mesh
-the cache deforms (its vertices in the cache's order, with the pattern's UVs, at frame 0), so a
+the cache deforms (its vertices in the cache's order, with the pattern's UVs, at frame 1), so a
 DCC imports the OBJ and plays the PC2 on it (Blender: a Mesh Cache modifier); per piece, the
 cache holds every particle, piece after piece in the garment file's order, and the OBJ all the
 pieces. ``--usd`` writes one USD mesh (a mesh per piece under ``/Garment`` with
@@ -124,7 +128,7 @@ def register(sub):
                         "Default: rest for an animated collider (a glTF clip or --collider-anim), start for a still "
                         "one (its only pose)")
     p.add_argument("--preroll", type=int, default=None,
-                   help=f"frames solved at the assembly pose before frame 0 is recorded, more while the seams still "
+                   help=f"frames solved at the assembly pose before frame 1 is recorded, more while the seams still "
                         f"close, up to {int(bake.ASSEMBLY_MAX_S)} s (default {bake.DEFAULT_PREROLL} when assembling at "
                         f"rest, as the add-on's Preroll; 0 at the start pose: the assembly is recorded)")
     p.add_argument("--transition", type=int, default=bake.DEFAULT_TRANSITION,
@@ -157,14 +161,15 @@ def run(args):
     tailor.check_playback(args.fps, args.frames)
     inputs = [("GARMENT_FILE", args.garment), ("GARMENT_FILE's sidecar", tailor.sidecar_path(args.garment)),
               ("--collider", args.collider)] + ([("--collider-anim", args.collider_anim)] if args.collider_anim else [])
-    mesh_path = str(Path(args.output).with_suffix(".obj")) if args.output else None
-    if args.output and Path(args.output).suffix.lower() == ".obj":
-        raise tailor.InvalidParameterError(f"-o {args.output}: the cache is a PC2 file (its mesh is written beside it "
-                                           "as .obj)")
+    obj_output = bool(args.output) and Path(args.output).suffix.lower() == ".obj"
+    mesh_path = str(Path(args.output).with_suffix(".obj")) if args.output and not obj_output else None
     outputs = [("--report", args.report)] + [(flag, path) for flag, path in (("-o", args.output), ("--usd", args.usd),
                                                                             ("--maps", args.maps),
                                                                             ("-o's mesh", mesh_path)) if path]
     tailor.check_outputs(inputs, outputs)
+    if obj_output:
+        raise tailor.InvalidParameterError(f"-o {args.output}: the cache is a PC2 file (its mesh is written beside it "
+                                           "as .obj)")
     if args.maps and Path(args.maps).suffix.lower() != ".npz":
         raise tailor.InvalidParameterError(f"--maps {args.maps}: the maps are written as NumPy's .npz")
     if args.maps and args.resume:
@@ -234,43 +239,46 @@ def run(args):
               flush=True)
     else:
         print("simulate: the garment assembles in the recorded frames (no preroll)", flush=True)
-    # Frame 0 is the garment after its assembly (as placed when there is none); frames 1..N are
-    # one step each (tailor.bake.Bake).
-    run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=0,
+    # Frame 1 is the garment as it enters the motion: after the assembly, with the collider at
+    # the motion's first frame; each later frame f is one step, the collider at the motion's
+    # frame f - 1. The add-on's Bake records its start frame the same way, so the two bakes
+    # give the same frames (tests/addon/test_cli_parity.py).
+    run = bake.Bake(sim, [bake.Collider(args.collider, cid, len(motion.rest))], fps=args.fps, start=1,
                     preroll=preroll, assembly=[motion.rest] if at_rest else None, transition=transition,
                     assembly_gravity=gravity0, pins=pins if len(pins.particles) else None)
-    run.step([motion.at(0)])
-    assembly = {"at": "rest" if at_rest else "start", "preroll_frames": run.preroll_frames,
-                "transition_frames": transition, "gravity": gravity0 is None}
     at = lambda f: [motion.at(f - 1)]  # noqa: E731  (frame f: the collider at the motion's frame f - 1)
-    frames = []
     cache = None
     if args.resume and os.path.exists(args.output):
         cache = tailor.Pc2Stream.resume(args.output, shape.num_vertices, keep=args.frames)
         done = tailor.read_pc2(args.output)["frames"]
         print(f"resume: solving the {len(done)} frames of {args.output} again and checking them", flush=True)
         run.replay(done, at, view=shape.points)
-        frames = run.records[1:]
     elif args.output:
         cache = tailor.Pc2Stream(args.output, shape.num_vertices, start_frame=1.0, sample_rate=1.0)
-    if args.output:
-        from tailor.export import write_mesh
-
-        write_mesh(mesh_path, shape, run.frames[0])
+    frames = list(run.records)  # the frames a resume solved again
     usd = None
     if args.usd:
         from tailor.usd import UsdCache
 
         usd = UsdCache(args.usd, sim, start_frame=1.0, fps=args.fps, up=up, name=name,
                        thickness=setup["thickness_m"], garment=shape)
-        usd.add_all(run.frames[1:])  # the frames a resume solved again
+        usd.add_all(run.frames)
     objs = None
     if args.obj_dir:
         from tailor.export import ObjSequence
 
         objs = ObjSequence(args.obj_dir, shape, name=name)
-        for f in run.frames[1:]:
+        for f in run.frames:
             objs.add(f)
+
+    def write_mesh() -> None:
+        """`-o`'s mesh (CACHE.obj), the garment at frame 1, once frame 1 is solved."""
+        if args.output and run.frames:
+            from tailor.export import write_mesh as write
+
+            write(mesh_path, shape, run.frames[0])
+
+    write_mesh()
 
     maps = FitMapFrames(args.maps) if args.maps else None
 
@@ -278,7 +286,9 @@ def run(args):
         summary = bake.summarize(frames)
         doc = {"frames": frames, "summary": summary, "warnings": warnings, "backend": sim.backend, "threads": sim.threads,
                "adapter": sim.adapter, "gpu_setup": sim.gpu_setup, **setup, "pins_attached": bool(pins.attached), "up": up,
-               "collider_up": collider_up, "assembly": assembly, "two_level": settings.two_level,
+               "collider_up": collider_up, "two_level": settings.two_level,
+               "assembly": {"at": "rest" if at_rest else "start", "preroll_frames": run.preroll_frames,
+                            "transition_frames": transition, "gravity": gravity0 is None},
                "outputs": "per piece" if args.per_piece else "welded", "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)
         tmp = args.report + ".tmp"
@@ -297,6 +307,8 @@ def run(args):
         frames.append(rec)
         if cache is not None:
             cache.push(shape.points(run.frames[-1]))
+        if f == 1:
+            write_mesh()
         frame_maps = sim.fit_maps(cid) if maps is not None else None
         if usd is not None:
             usd.add(run.frames[-1], frame_maps)

@@ -50,7 +50,7 @@ $(ADDON_ZIP): $(STAMP) $(ADDON_SOURCES)
 ## and arm64, built with maturin --zig (zig from PyPI's ziglang), each checked for newer glibc
 ## symbols: dist/tailor_addon_studio.zip.
 addon-studio: $(STAMP)
-	$(PY) -m pip install --quiet ziglang
+	$(PY) -m pip install --quiet ziglang auditwheel
 	rustup target add aarch64-unknown-linux-gnu
 	$(PY) addon/build_addon.py --compat manylinux_2_28 --arch x86_64,aarch64 -o dist/tailor_addon_studio.zip
 

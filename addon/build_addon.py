@@ -12,7 +12,8 @@ Run with the project's .venv Python (it has maturin and bpy): `make addon`.
 
 `--compat manylinux_2_28 --arch x86_64,aarch64` (`make addon-studio`) builds the wheels with
 `maturin --zig` against glibc 2.28 (Rocky and Alma Linux 8, the studio baseline), one per
-architecture, checks each library asks for no newer glibc symbol (`objdump -T`), and bundles
+architecture, checks each library asks for no newer glibc symbol (`objdump -T`) and that PyPA's
+`auditwheel show` finds the wheel consistent with that tag (its policy of libraries too), and bundles
 them all; Blender installs the wheel of its own platform. The default build (`make addon`) is
 for this machine's glibc and architecture alone.
 
@@ -91,6 +92,7 @@ def build_wheel(compat: str | None = None, arch: str | None = None) -> Path:
         sys.exit(f"build_addon: expected one tailor wheel in {out}, found {[w.name for w in wheels]}")
     if compat:
         check_glibc(wheels[0], compat)
+        check_auditwheel(wheels[0], compat, arch)
     return wheels[0]
 
 
@@ -119,6 +121,31 @@ def check_glibc(wheel: Path, compat: str) -> None:
                     sys.exit(f"build_addon: {wheel.name}: {name} needs GLIBC_{'.'.join(map(str, needed))}, "
                              f"newer than {compat} allows")
                 print(f"build_addon: {wheel.name}: {name} needs at most GLIBC_{'.'.join(map(str, needed))}")
+
+
+def auditwheel_tag(report: str) -> tuple[tuple[int, int], str] | None:
+    """The most compatible platform tag `auditwheel show` finds a wheel consistent with, as
+    ((major, minor), arch), from its report; None when it names none (not a manylinux wheel)."""
+    text = re.sub(r"\s+", " ", report)  # auditwheel wraps its report at any word
+    m = re.search(r'consistent with the following platform tag: "manylinux_(\d+)_(\d+)_(\w+)"', text)
+    return ((int(m.group(1)), int(m.group(2))), m.group(3)) if m else None
+
+
+def check_auditwheel(wheel: Path, compat: str, arch: str) -> None:
+    """Refuses a wheel that PyPA's `auditwheel show` does not find consistent with `compat` for
+    `arch`: besides glibc's symbols it checks every library the wheel links against the
+    manylinux policy (a library a studio machine may lack), which `objdump -T` does not."""
+    run = subprocess.run([sys.executable, "-m", "auditwheel", "show", str(wheel)], capture_output=True, text=True)
+    if run.returncode != 0:
+        sys.exit(f"build_addon: auditwheel show {wheel.name} failed (pip install auditwheel): "
+                 f"{(run.stderr or run.stdout).strip().splitlines()[-1:]}")
+    found = auditwheel_tag(run.stdout)
+    promised = tuple(int(v) for v in re.fullmatch(r"manylinux_(\d+)_(\d+)", compat).groups())
+    if found is None or found[0] > promised or found[1] != arch:
+        sys.exit(f"build_addon: {wheel.name}: auditwheel finds it consistent with "
+                 f"{'no manylinux tag' if found is None else f'manylinux_{found[0][0]}_{found[0][1]}_{found[1]}'}, "
+                 f"not {compat}_{arch}")
+    print(f"build_addon: {wheel.name}: auditwheel: consistent with manylinux_{found[0][0]}_{found[0][1]}_{found[1]}")
 
 
 def bundle_wheels(wheels: list[Path], into: Path = WHEELS) -> list[Path]:

@@ -86,3 +86,56 @@ def test_the_release_workflow_builds_a_wheel_per_platform_and_splits_them():
     assert sorted(platforms) == ["linux-arm64", "linux-x64", "macos-arm64", "macos-x64", "windows-x64"]
     steps = "\n".join(s.get("run", "") for s in flow["jobs"]["extension"]["steps"])
     assert "addon/build_addon.py" in steps and "--split-platforms" in steps and "--wheel" in steps
+
+
+def wheel_of_the_built_module(tmp_path: Path) -> Path:
+    """A wheel holding the `_tailor` library `maturin develop` built here (the real ELF file
+    auditwheel reads), tagged for no particular glibc (`linux_x86_64`, as maturin's own are
+    before a manylinux check)."""
+    import platform
+
+    so = ROOT / "native" / "python" / "tailor" / "_tailor.abi3.so"
+    assert so.is_file(), f"{so} is missing: make develop"
+    arch = platform.machine()
+    wheel = tmp_path / f"tailor-0.1.0-cp311-abi3-linux_{arch}.whl"
+    info = "tailor-0.1.0.dist-info"
+    files = {
+        "tailor/_tailor.abi3.so": so.read_bytes(),
+        f"{info}/METADATA": b"Metadata-Version: 2.1\nName: tailor\nVersion: 0.1.0\n",
+        f"{info}/WHEEL": f"Wheel-Version: 1.0\nGenerator: test\nRoot-Is-Purelib: false\n"
+                         f"Tag: cp311-abi3-linux_{arch}\n".encode(),
+    }
+    record = "".join(f"{n},,\n" for n in files) + f"{info}/RECORD,,\n"
+    with zipfile.ZipFile(wheel, "w") as z:
+        for name, data in files.items():
+            z.writestr(name, data)
+        z.writestr(f"{info}/RECORD", record)
+    return wheel
+
+
+def test_auditwheel_reads_the_platform_tag_a_wheel_is_consistent_with():
+    report = ('\ntailor-0.1.0-cp311-abi3-linux_x86_64.whl is consistent with\nthe following platform tag: '
+              '"manylinux_2_28_aarch64".\n\nThe wheel references external versioned symbols')
+    assert build_addon.auditwheel_tag(report) == ((2, 28), "aarch64")
+    assert build_addon.auditwheel_tag("tailor.whl is consistent with the following platform tag: \"linux_x86_64\"") is None
+
+
+def test_auditwheel_passes_a_wheel_for_its_glibc_and_refuses_an_older_promise(tmp_path, capsys):
+    """The check `make addon-studio` runs on each wheel, on the module built here: auditwheel
+    finds it consistent with this machine's glibc tag, which passes, and an older promise
+    (manylinux_2_17: what this build does not keep) stops the build naming both."""
+    import platform
+    import re
+    import subprocess
+    import sys
+
+    wheel = wheel_of_the_built_module(tmp_path)
+    arch = platform.machine()
+    shown = subprocess.run([sys.executable, "-m", "auditwheel", "show", str(wheel)], capture_output=True, text=True)
+    assert shown.returncode == 0, shown.stderr
+    (major, minor), found_arch = build_addon.auditwheel_tag(shown.stdout)
+    assert found_arch == arch and (major, minor) >= (2, 17)
+    build_addon.check_auditwheel(wheel, f"manylinux_{major}_{minor}", arch)
+    assert f"consistent with manylinux_{major}_{minor}_{arch}" in capsys.readouterr().out
+    with pytest.raises(SystemExit, match=re.escape(f"manylinux_{major}_{minor}_{arch}, not manylinux_2_17_{arch}")):
+        build_addon.check_auditwheel(wheel, "manylinux_2_17", arch)

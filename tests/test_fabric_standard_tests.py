@@ -25,6 +25,12 @@ def test_peirce_gives_half_the_overhang_at_the_standards_angle():
 
 def test_beam_bending_length():
     assert st.beam_bending_length(2e-5, 0.15) == pytest.approx((2e-5 / (0.15 * 9.81)) ** (1 / 3))
+    # A fabric's beam stands on the rigidity its hinge stiffness stands for (3 x bend).
+    import tailor
+
+    assert st.rigidity(tailor.Fabric(bend=2e-5)) == pytest.approx(6e-5)
+    names = [n for n, _ in st.fabrics()]
+    assert names[:-1] == [f["name"] for f in tailor.fabric_library()] and names[-1].startswith("default")
 
 
 def disc():
@@ -49,7 +55,10 @@ def test_the_drape_coefficient_of_a_flat_and_of_a_hanging_disc():
 
 
 def test_a_short_cantilever_and_drape_through_the_module():
-    c = st.cantilever(0.15, 2e-5, 15, 15)
-    assert 0.0 < c["theta_deg"] < 90.0 and c["c"] > 0.0 and c["c_beam"] == pytest.approx(0.02386, rel=1e-3)
-    d = st.cusick(0.15, 2e-5, 15, 10)
+    import tailor
+
+    c = st.cantilever(tailor.Fabric(density=0.15, bend=2e-5), 15, 15)
+    # The beam length of the rigidity 6e-5 N·m the hinge stiffness 2e-5 stands for.
+    assert 0.0 < c["theta_deg"] < 90.0 and c["c"] > 0.0 and c["c_beam"] == pytest.approx(0.03441, rel=1e-3)
+    d = st.cusick(tailor.Fabric.named("11oz-black-denim"), 15, 10)
     assert 0.0 < d["dc"] < 1.0

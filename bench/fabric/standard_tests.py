@@ -5,9 +5,11 @@ the fabric parameters it is given.
   end overhanging by `l` and bending down under its own weight. The bending length `c` follows
   from the chord's angle `θ` below the horizontal (Peirce 1930, the standard's formula):
   `c = l · (cos(θ/2) / (8 tan θ))^(1/3)`; an inextensible elastic strip of flexural rigidity
-  `B` (N·m, the solver's bending stiffness) and weight `w = ρ g` per area has
-  `c = (B / w)^(1/3)` (Euler's beam; the standard's 41.5° is where `l = 2c`). The overhang is
-  `2c` of the fabric, so an exact solver would show 41.5°.
+  `B` (N·m) and weight `w = ρ g` per area has `c = (B / w)^(1/3)` (Euler's beam; the standard's
+  41.5° is where `l = 2c`). `B` is the rigidity the fabric's hinge stiffness `bend` stands for,
+  `tailor.HINGE_ENERGY_PER_RIGIDITY` × bend (the hinge model's energy, calibrated in
+  `tailor_core::fabrics`; for a library fabric, its measured rigidity). The overhang is `2c` of
+  the fabric, so an exact solver would show 41.5°.
 * **Cusick drape** (ISO 9073-9, BS 5058): a 30 cm disc on an 18 cm support, draped under its own
   weight; the drape coefficient is `DC = (A_s − A_d) / (A_D − A_d)`, the shadow area `A_s`
   between the support's `A_d` and the flat disc's `A_D` (1: stiff as a board, 0: hanging
@@ -17,9 +19,11 @@ the fabric parameters it is given.
 
 Each is run at the Final preset (8 substeps × 15 iterations), at Final with the two-level global
 step (`Settings.two_level`), and with 8 × `--reference-iterations` (default 400) as the nearest
-to a converged reference the plain solver gets, through the module (`tailor.Simulation`), for each of a
-few parameter sets spanning light to heavy fabrics. These are the solver's test cases, not
-measured fabrics: a fabric library with sourced values is still issue 28's to build.
+to a converged reference the plain solver gets, through the module (`tailor.Simulation`), for
+every fabric of the library (`tailor.fabric_library()`: measured fabrics, their sources in
+`tailor_core::fabrics`) and Tailor's default fabric. The source measured stretch and bending, not
+these tests: the cantilever's beam length is the one the measured rigidity gives; no measured
+drape coefficient exists for these fabrics, so the Cusick table compares with the reference solve.
 
     python bench/fabric/standard_tests.py [--frames 150] [--reference-iterations 400] [--only cantilever|cusick]
 
@@ -38,11 +42,16 @@ import numpy as np
 import tailor
 
 G = 9.81
-#: The parameter sets: (name, density kg/m², bending stiffness N·m). Light, medium (the default
-#: fabric's) and heavy, a decade of bending apart.
-FABRICS = (("light", 0.06, 2e-6), ("medium (default)", 0.15, 2e-5), ("heavy", 0.35, 2e-4))
-#: The default fabric's in-plane stiffness (N/m) for every set: the tests load bending.
-STRETCH, SHEAR = 600.0, 60.0
+
+
+def fabrics() -> list[tuple[str, "tailor.Fabric"]]:
+    """Every library fabric, lightest first, then Tailor's default fabric."""
+    return [(f["name"], f["fabric"]) for f in tailor.fabric_library()] + [("default (Tailor's)", tailor.Fabric())]
+
+
+def rigidity(fabric) -> float:
+    """The flexural rigidity (N·m) a fabric's hinge stiffness stands for."""
+    return fabric.bend * tailor.HINGE_ENERGY_PER_RIGIDITY
 
 
 def piece_mesh(outline: np.ndarray, edge: float, name: str):
@@ -58,17 +67,16 @@ def bending_length_from_angle(overhang: float, theta: float) -> float:
     return overhang * (math.cos(theta / 2.0) / (8.0 * math.tan(theta))) ** (1.0 / 3.0)
 
 
-def beam_bending_length(bend: float, density: float) -> float:
-    """`c = (B / (ρ g))^(1/3)`, metres."""
-    return (bend / (density * G)) ** (1.0 / 3.0)
+def beam_bending_length(rigidity: float, density: float) -> float:
+    """`c = (B / (ρ g))^(1/3)`, metres, for a flexural rigidity `B` (N·m)."""
+    return (rigidity / (density * G)) ** (1.0 / 3.0)
 
 
-def flat_simulation(mesh, density: float, bend: float, iterations: int, two_level: bool):
-    """`mesh` lying flat at z = 0, of the given fabric, 8 substeps x `iterations`, air damping 2."""
+def flat_simulation(mesh, fabric, iterations: int, two_level: bool):
+    """`mesh` lying flat at z = 0, of `fabric`, 8 substeps x `iterations`, air damping 2."""
     rest = np.asarray(mesh.rest, np.float32)
     pos = np.column_stack([rest, np.zeros(len(rest), np.float32)])
     settings = tailor.Settings(substeps=8, iterations=iterations, air_damping=2.0, two_level=two_level)
-    fabric = tailor.Fabric(density=density, stretch=STRETCH, shear=SHEAR, bend=bend)
     return tailor.Simulation(pos, mesh.triangles, rest, fabric, settings), rest
 
 
@@ -79,12 +87,12 @@ def settle(sim, frames: int) -> float:
     return time.perf_counter() - t0
 
 
-def cantilever(density: float, bend: float, iterations: int, frames: int, two_level: bool = False) -> dict:
-    c = beam_bending_length(bend, density)
+def cantilever(fabric, iterations: int, frames: int, two_level: bool = False) -> dict:
+    c = beam_bending_length(rigidity(fabric), fabric.density)
     overhang, clamp, width = 2.0 * c, 0.02, 0.025
     edge = min(overhang / 24.0, 0.005)
     outline = np.array([[-clamp, 0.0], [overhang, 0.0], [overhang, width], [-clamp, width]])
-    sim, rest = flat_simulation(piece_mesh(outline, edge, "strip"), density, bend, iterations, two_level)
+    sim, rest = flat_simulation(piece_mesh(outline, edge, "strip"), fabric, iterations, two_level)
     sim.pin(np.flatnonzero(rest[:, 0] <= 1e-6).astype(np.uint32))
     seconds = settle(sim, frames)
     x = np.asarray(sim.positions)
@@ -120,11 +128,10 @@ def drape_coefficient(shadow: float, specimen_radius: float = 0.15, support_radi
     return (shadow - a_support) / (a_disc - a_support)
 
 
-def cusick(density: float, bend: float, iterations: int, frames: int, edge: float = 0.01,
-           two_level: bool = False) -> dict:
+def cusick(fabric, iterations: int, frames: int, edge: float = 0.01, two_level: bool = False) -> dict:
     t = np.linspace(0.0, 2 * math.pi, 189, endpoint=False)
     mesh = piece_mesh(np.column_stack([0.15 * np.cos(t), 0.15 * np.sin(t)]), edge, "disc")
-    sim, rest = flat_simulation(mesh, density, bend, iterations, two_level)
+    sim, rest = flat_simulation(mesh, fabric, iterations, two_level)
     sim.pin(np.flatnonzero(np.linalg.norm(rest, axis=1) <= 0.09).astype(np.uint32))
     seconds = settle(sim, frames)
     x = np.asarray(sim.positions)
@@ -132,10 +139,10 @@ def cusick(density: float, bend: float, iterations: int, frames: int, edge: floa
     return {"dc": dc, "particles": len(rest), "seconds": seconds}
 
 
-def three_runs(test, density: float, bend: float, final: int, args) -> tuple[dict, dict, dict]:
+def three_runs(test, fabric, final: int, args) -> tuple[dict, dict, dict]:
     """`test` at Final, at Final with the two-level step, and with the reference's iterations."""
-    return (test(density, bend, final, args.frames), test(density, bend, final, args.frames, two_level=True),
-            test(density, bend, args.reference_iterations, args.frames))
+    return (test(fabric, final, args.frames), test(fabric, final, args.frames, two_level=True),
+            test(fabric, args.reference_iterations, args.frames))
 
 
 def main(argv=None) -> int:
@@ -148,27 +155,30 @@ def main(argv=None) -> int:
     if args.only != "cusick":
         print("Cantilever (ASTM D1388): bending length c, beam theory against the simulation at Final "
               f"(8 x {final}) and with 8 x {args.reference_iterations} iterations\n")
-        print("| fabric | density kg/m² | bending N·m | c, beam | Final: θ, c, error | Final two-level: θ, c, error | "
+        print("| fabric | density kg/m² | rigidity µN·m | c, beam | Final: θ, c, error | Final two-level: θ, c, error | "
               f"8 x {args.reference_iterations}: θ, c, error | particles |")
         print("|---|---:|---:|---:|---|---|---|---:|")
 
         def cell(r: dict) -> str:
+            if not r["c"] == r["c"]:  # past the vertical: no bending length
+                return f"{r['theta_deg']:.1f}° (past vertical)"
             return f"{r['theta_deg']:.1f}°, {r['c'] * 100:.2f} cm, {100 * (r['c'] / r['c_beam'] - 1):+.0f} %"
 
-        for name, rho, bend in FABRICS:
-            f, t, r = three_runs(cantilever, rho, bend, final, args)
-            print(f"| {name} | {rho} | {bend:g} | {f['c_beam'] * 100:.2f} cm | {cell(f)} | {cell(t)} | {cell(r)} | "
-                  f"{f['particles']} |", flush=True)
+        for name, fabric in fabrics():
+            f, t, r = three_runs(cantilever, fabric, final, args)
+            print(f"| {name} | {fabric.density:.3f} | {rigidity(fabric) * 1e6:.1f} | {f['c_beam'] * 100:.2f} cm | "
+                  f"{cell(f)} | {cell(t)} | {cell(r)} | {f['particles']} |", flush=True)
         print()
     if args.only != "cantilever":
         print("Cusick drape (30 cm disc, 18 cm support): drape coefficient at Final "
               f"(8 x {final}) against 8 x {args.reference_iterations} iterations\n")
-        print(f"| fabric | density kg/m² | bending N·m | DC Final | DC Final two-level | DC 8 x {args.reference_iterations} | "
+        print(f"| fabric | density kg/m² | rigidity µN·m | DC Final | DC Final two-level | DC 8 x {args.reference_iterations} | "
               "particles | s Final / two-level / reference |")
         print("|---|---:|---:|---:|---:|---:|---:|---|")
-        for name, rho, bend in FABRICS:
-            f, t, r = three_runs(cusick, rho, bend, final, args)
-            print(f"| {name} | {rho} | {bend:g} | {f['dc']:.3f} | {t['dc']:.3f} | {r['dc']:.3f} | {f['particles']} | "
+        for name, fabric in fabrics():
+            f, t, r = three_runs(cusick, fabric, final, args)
+            print(f"| {name} | {fabric.density:.3f} | {rigidity(fabric) * 1e6:.1f} | {f['dc']:.3f} | {t['dc']:.3f} | "
+                  f"{r['dc']:.3f} | {f['particles']} | "
                   f"{f['seconds']:.1f} / {t['seconds']:.1f} / {r['seconds']:.1f} |", flush=True)
     return 0
 

@@ -5,9 +5,36 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProp
 
 import tailor
 
+from ..core import fabric_presets
 from ..core.arrange import AUTO, place_items
 
 _DEFAULT = tailor.Fabric()
+_FABRIC_ITEMS = fabric_presets.items()  # kept: Blender needs the enum's strings to stay alive
+
+
+_APPLYING: set = set()  # pieces whose fabric is being set from the library (not edits by hand)
+
+
+def _apply_fabric(self, _context) -> None:
+    """A library fabric chosen: its four values (Custom keeps the piece's own)."""
+    if self.fabric == fabric_presets.CUSTOM:
+        return
+    key = self.as_pointer()
+    _APPLYING.add(key)
+    try:
+        for k, v in fabric_presets.values(self.fabric).items():
+            setattr(self, k, v)
+    finally:
+        _APPLYING.discard(key)
+
+
+def _edited_fabric(self, _context) -> None:
+    """A value typed by hand: the piece is Custom unless the values are still its fabric's."""
+    if self.as_pointer() in _APPLYING:
+        return
+    current = {k: getattr(self, k) for k in fabric_presets.FIELDS}
+    if self.fabric != fabric_presets.CUSTOM and not fabric_presets.matches(self.fabric, current):
+        self.fabric = fabric_presets.CUSTOM
 
 
 class TailorPieceSettings(bpy.types.PropertyGroup):
@@ -41,18 +68,29 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
         options={"HIDDEN"},
     )
     contour_length: FloatProperty(name="Contour Length", subtype="DISTANCE", unit="LENGTH")
-    # Fabric of this piece (the Simulate panel builds per-piece stiffness and mass from these).
+    # Fabric of this piece (the Simulate panel builds per-piece stiffness and mass from these),
+    # chosen from the library (`core.fabric_presets`) or typed.
+    fabric: EnumProperty(
+        name="Fabric", description="A measured fabric from the library, or Custom values",
+        items=_FABRIC_ITEMS, default=fabric_presets.CUSTOM, update=_apply_fabric,
+    )
     density: FloatProperty(
-        name="Density", description="Mass per area, kg/m²", min=1e-4, default=_DEFAULT.density, precision=3
+        name="Density", description="Mass per area, kg/m²", min=1e-4, default=_DEFAULT.density, precision=3,
+        update=_edited_fabric,
     )
     stretch: FloatProperty(
-        name="Stretch", description="Stretch stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.stretch
+        name="Stretch", description="Stretch stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.stretch,
+        update=_edited_fabric,
     )
     shear: FloatProperty(
-        name="Shear", description="Shear stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.shear
+        name="Shear", description="Shear stiffness of the fabric, N/m", min=0.0, default=_DEFAULT.shear,
+        update=_edited_fabric,
     )
     bend: FloatProperty(
-        name="Bend", description="Bending stiffness of the fabric, N·m", min=0.0, default=_DEFAULT.bend, precision=6
+        name="Bend",
+        description="Bending stiffness of the fabric's hinge model, N·m: a fabric of flexural rigidity B has B/3 "
+                    "(the library's fabrics are converted so)",
+        min=0.0, default=_DEFAULT.bend, precision=7, update=_edited_fabric,
     )
     # The last bend applied (re-applied after a change of resolution; angle 0 = flat).
     bend_angle: FloatProperty(name="Bend Angle", subtype="ANGLE", default=0.0)

@@ -40,6 +40,7 @@ class TAILOR_PT_patterns(TailorPanel, bpy.types.Panel):
                 r.label(text=f"{len(o.data.vertices)} v, {o.tailor_piece.edge_length * 100:.3g} cm")
         col = box.column(align=True)
         col.label(text="Fabric")
+        col.prop(p, "fabric", text="")
         col.prop(p, "density")
         col.prop(p, "stretch")
         col.prop(p, "shear")

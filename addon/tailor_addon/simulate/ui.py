@@ -116,6 +116,7 @@ class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
             box = layout.box()
             box.label(text=f"Fabric of {obj.name}", icon="MOD_CLOTH")
             p = obj.tailor_piece
+            box.prop(p, "fabric", text="")
             for name in ("density", "stretch", "shear", "bend"):
                 box.prop(p, name)
             maps = painted_maps(obj)

@@ -39,6 +39,8 @@ class Fabric:
     density: float
     stretch: float
     shear: float
+    #: The quadratic hinge model's stiffness: a flexural rigidity of `HINGE_ENERGY_PER_RIGIDITY`
+    #: x bend N·m.
     bend: float
     def __init__(
         self,
@@ -47,6 +49,16 @@ class Fabric:
         shear: float | None = None,
         bend: float | None = None,
     ) -> None: ...
+    @staticmethod
+    def named(name: str) -> Fabric:
+        """The fabric library's fabric `name` as the solver's fabric."""
+
+#: The hinge model's bending energy over the continuum energy of a rigidity equal to `bend` (3).
+HINGE_ENERGY_PER_RIGIDITY: float
+
+def fabric_library() -> list[dict[str, Any]]:
+    """Every measured fabric, lightest first: `name`, `description`, `density`, `stretch_u`,
+    `stretch_v`, `shear`, `rigidity_u`, `rigidity_bias`, `rigidity_v`, `rigidity`, `fabric`."""
 
 class Settings:
     substeps: int

@@ -49,6 +49,7 @@ pub mod bend;
 pub mod collision;
 pub mod engine;
 pub mod error;
+pub mod fabrics;
 pub mod files;
 pub mod garment;
 pub mod garment_file;

@@ -272,11 +272,13 @@ fn per_triangle_bending_matches_the_fabric_bending() {
 
 /// The cantilever of ASTM D1388 at the Final preset: a 2.5 cm strip (about 2 mm edges) held
 /// along 2 cm and overhanging by twice its beam bending length `c = (B/ρg)^(1/3)`, where an
-/// exact solver's chord drops 41.5°. Returns the bending length read back from the chord's
-/// angle with Peirce's formula, over `c`.
+/// exact solver's chord drops 41.5°; `B` is the flexural rigidity the hinge model's `bend`
+/// stands for (`HINGE_ENERGY_PER_RIGIDITY` × bend). Returns the bending length read back from
+/// the chord's angle with Peirce's formula, over `c`.
 fn cantilever_bending_length_ratio(two_level: bool) -> f32 {
     let (density, bend) = (0.15f32, 2e-5f32);
-    let c = (bend / (density * 9.81)).cbrt();
+    let rigidity = bend * tailor_core::fabrics::HINGE_ENERGY_PER_RIGIDITY as f32;
+    let c = (rigidity / (density * 9.81)).cbrt();
     let (clamp, overhang, width) = (0.02f32, 2.0 * c, 0.025f32);
     let (nx, ny) = (34usize, 12usize);
     let (rest, tris) = rectangle(clamp + overhang, width, nx, ny);
@@ -305,14 +307,17 @@ fn cantilever_bending_length_ratio(two_level: bool) -> f32 {
 }
 
 /// The two-level global step makes the Final preset's bending felt: plainly the strip hangs
-/// nearly straight down (its bending length a fifth of the beam's), with the coarse correction
-/// it reads within a third of beam theory (docs/accuracy.md, "The two-level global step").
+/// straight down (measured: its chord past the vertical, a negative bending length), with the
+/// coarse correction it reads 0.65 of beam theory (measured 2.25 cm of 3.44; docs/accuracy.md,
+/// "The two-level global step"). Against the rigidity the hinge model's `bend` stands for: read
+/// against `bend` itself (before the hinge energy was calibrated, `tailor_core::fabrics`) the
+/// same strip seemed within a fifth of beam theory.
 #[test]
 fn the_two_level_step_brings_the_cantilever_towards_beam_theory() {
     let plain = cantilever_bending_length_ratio(false);
     let two_level = cantilever_bending_length_ratio(true);
     assert!(plain < 0.35, "plain Final: bending length {plain} of the beam's");
-    assert!((0.67..1.1).contains(&two_level), "two-level Final: bending length {two_level} of the beam's");
+    assert!((0.55..1.1).contains(&two_level), "two-level Final: bending length {two_level} of the beam's");
 }
 
 /// With self-collision on, the two-level step is not applied (its correction undid the

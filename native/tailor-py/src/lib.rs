@@ -10,6 +10,7 @@ mod colliders;
 mod contour;
 mod convert;
 mod errors;
+mod fabrics;
 mod files;
 mod garment;
 mod io;
@@ -42,6 +43,7 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     errors::register(m)?;
     m.add_class::<settings::Fabric>()?;
+    fabrics::register(m)?;
     m.add_class::<settings::Settings>()?;
     m.add_class::<simulation::Simulation>()?;
     m.add_class::<background::Pending>()?;

@@ -17,7 +17,8 @@ pub struct Fabric {
     pub stretch: f32,
     /// Shear stiffness, N/m.
     pub shear: f32,
-    /// Bending stiffness, N·m.
+    /// Bending stiffness of the quadratic hinge model: a flexural rigidity of 3 × bend N·m
+    /// (`HINGE_ENERGY_PER_RIGIDITY`; the fabric library's fabrics convert so).
     pub bend: f32,
 }
 
@@ -37,6 +38,13 @@ impl Fabric {
                 }
             })
         })
+    }
+
+    /// The fabric library's fabric `name` as the solver's fabric (`tailor.fabric_library()`
+    /// lists them with their measured properties).
+    #[staticmethod]
+    fn named(name: &str) -> PyResult<Self> {
+        crate::fabrics::named(name)
     }
 
     fn __repr__(&self) -> PyResult<String> {

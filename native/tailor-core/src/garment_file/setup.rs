@@ -159,7 +159,9 @@ impl ColliderLevels {
 pub struct GarmentSetup {
     /// The garment's name, for reports (empty: the file's name).
     pub name: String,
-    /// Fabric of each piece, in garment order; empty: the default fabric for every piece.
+    /// Fabric of each piece, in garment order; empty: the default fabric for every piece. Read
+    /// as values or by a library name ([`crate::fabrics::deserialize_entries`]).
+    #[serde(deserialize_with = "crate::fabrics::deserialize_entries")]
     pub fabrics: Vec<Fabric>,
     /// Collision thickness, metres.
     pub thickness: f32,

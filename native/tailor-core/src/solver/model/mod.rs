@@ -486,7 +486,7 @@ impl Model {
 
 /// The bending stencil of each interior edge with a non-degenerate hinge, in topology order:
 /// its four `(vertex, coefficient)` terms, the hinge's rest area and its two triangles.
-fn hinge_stencils(mesh: &ClothMesh) -> impl Iterator<Item = ([(u32, f32); 4], f64, [u32; 2])> + '_ {
+pub(crate) fn hinge_stencils(mesh: &ClothMesh) -> impl Iterator<Item = ([(u32, f32); 4], f64, [u32; 2])> + '_ {
     let rest = mesh.rest();
     let r = move |v: u32| [rest[v as usize][0] as f64, rest[v as usize][1] as f64];
     mesh.topology().hinges.iter().filter_map(move |h| {
@@ -501,6 +501,6 @@ fn hinge_stencils(mesh: &ClothMesh) -> impl Iterator<Item = ([(u32, f32); 4], f6
 
 /// A hinge's stencil weight for bending stiffness `bend` (N·m) over rest area `area` (the
 /// quadratic bending energy's 3k/A).
-fn bending_weight(bend: f64, area: f64) -> f32 {
+pub(crate) fn bending_weight(bend: f64, area: f64) -> f32 {
     (3.0 * bend / area) as f32
 }

@@ -32,7 +32,9 @@ pub struct Fabric {
     pub stretch: f32,
     /// Shear stiffness (resistance to the warp and weft axes losing orthogonality), N/m.
     pub shear: f32,
-    /// Bending stiffness of the quadratic hinge model, N·m.
+    /// Bending stiffness of the quadratic hinge model, N·m: its energy is 3 times the continuum
+    /// `½·B·κ²` of a rigidity `B = bend`, so a fabric of flexural rigidity `B` has `bend = B/3`
+    /// ([`crate::fabrics::HINGE_ENERGY_PER_RIGIDITY`], measured there; the library converts).
     pub bend: f32,
 }
 

@@ -12,6 +12,8 @@
 //! `bending` as three rows of five samples). Each entry of [`LIBRARY`] holds the file's numbers
 //! the rules below use (four of the six stretching rows, the first sample of each bending row)
 //! as they are printed there; the properties are computed from them by the rules, once, in code.
+//! The files come with ARCSim and the Berkeley Garment Library; their README asks that any
+//! scholarly publication using the data cite the paper above, and states no other terms for it.
 //!
 //! # From ARCSim's model to a measured property
 //!

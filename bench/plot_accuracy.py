@@ -22,9 +22,11 @@ ROOT = Path(__file__).resolve().parent.parent
 IMG = ROOT / "docs" / "img"
 DOC = ROOT / "docs" / "accuracy.md"
 LEVELS = (1e-2, 1e-3, 1e-4)
-METHODS = ("jacobi", "gauss_seidel", "chebyshev", "reference")
-LABEL = {"jacobi": "Jacobi", "gauss_seidel": "Gauss-Seidel", "chebyshev": "GS + Chebyshev", "reference": "reference"}
-COLOUR = {"jacobi": "tab:orange", "gauss_seidel": "tab:blue", "chebyshev": "tab:green", "reference": "black"}
+METHODS = ("jacobi", "gauss_seidel", "chebyshev", "two_level", "reference")
+LABEL = {"jacobi": "Jacobi", "gauss_seidel": "Gauss-Seidel", "chebyshev": "GS + Chebyshev",
+         "two_level": "GS + Chebyshev, two-level", "reference": "reference"}
+COLOUR = {"jacobi": "tab:orange", "gauss_seidel": "tab:blue", "chebyshev": "tab:green", "two_level": "tab:purple",
+          "reference": "black"}
 MEASURES = (("objective_rel", "relative objective error"), ("residual_rel", "relative residual"),
             ("distance_rel", "distance to reference"))
 

@@ -7,7 +7,8 @@
 //! **Steps** (`DIR/steps.json`, `DIR/steps.csv`): each scene is advanced with the default
 //! settings to its frozen states (early, during seam closing or swinging, settled); at each, one
 //! substep's problem (prediction and contacts frozen) is solved by Jacobi, coloured
-//! Gauss-Seidel, Gauss-Seidel with Chebyshev and the reference solver
+//! Gauss-Seidel, Gauss-Seidel with Chebyshev, the same with the two-level step's coarse
+//! correction after every sweep (`two_level`) and the reference solver
 //! ([`Simulation::measure_methods`]), recording after sampled iterations the solver wall time
 //! and the relative objective error, relative residual and distance to the reference.
 //!
@@ -31,8 +32,8 @@ use common::*;
 use serde_json::{json, Value};
 use tailor_core::scenes::{hanging_sheet, sewn_tube, two_layers};
 use tailor_core::solver::{
-    ColliderId, Fabric, MeshColliderOptions, Method, MethodsMeasurement, ReferenceOptions, SelfCollisionSettings,
-    Simulation, SolverSettings, StepStats,
+    ColliderId, Fabric, MeshColliderOptions, Method, MethodRun, MethodsMeasurement, ReferenceOptions,
+    SelfCollisionSettings, Simulation, SolverSettings, StepStats,
 };
 
 const DT: f32 = 1.0 / 30.0;
@@ -138,7 +139,7 @@ fn states(scene: &str, n: usize) -> Vec<(&'static str, usize)> {
 /// Iterations of each method per size, and of the reference: the reference is the slow part
 /// (a direct solve per iteration, hundreds to thousands of iterations), so it is capped and its
 /// own residual is reported beside the figures.
-fn budgets(n: usize) -> ([(Method, u32); 3], ReferenceOptions) {
+fn budgets(n: usize) -> ([MethodRun; 4], ReferenceOptions) {
     let (j, c, r) = if n < 5_000 {
         (8000, 2000, 5000)
     } else if n < 50_000 {
@@ -146,7 +147,13 @@ fn budgets(n: usize) -> ([(Method, u32); 3], ReferenceOptions) {
     } else {
         (300, 200, 150)
     };
-    let methods = [(Method::Jacobi, j), (Method::GaussSeidel, j), (Method::Chebyshev, c)];
+    let run = |method, iterations, two_level| MethodRun { method, iterations, two_level };
+    let methods = [
+        run(Method::Jacobi, j, false),
+        run(Method::GaussSeidel, j, false),
+        run(Method::Chebyshev, c, false),
+        run(Method::Chebyshev, c, true),
+    ];
     (methods, ReferenceOptions { max_iterations: r, ..Default::default() })
 }
 
@@ -155,11 +162,12 @@ fn keep(k: u32) -> bool {
     k <= 10 || ((k as f64).log10() * 20.0).floor() != (((k - 1) as f64).log10() * 20.0).floor()
 }
 
-fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::Jacobi => "jacobi",
-        Method::GaussSeidel => "gauss_seidel",
-        Method::Chebyshev => "chebyshev",
+fn method_name(m: Method, two_level: bool) -> &'static str {
+    match (m, two_level) {
+        (_, true) => "two_level",
+        (Method::Jacobi, _) => "jacobi",
+        (Method::GaussSeidel, _) => "gauss_seidel",
+        (Method::Chebyshev, _) => "chebyshev",
     }
 }
 
@@ -223,7 +231,7 @@ fn steps(sizes: &[usize], csv: &mut impl Write) -> Vec<Value> {
             );
             let mut runs = vec![("reference", &m.reference_records)];
             for s in &m.methods {
-                runs.push((method_name(s.method), &s.records));
+                runs.push((method_name(s.method, s.two_level), &s.records));
             }
             for (name, recs) in &runs {
                 for rec in recs.iter() {

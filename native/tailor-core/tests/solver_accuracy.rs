@@ -125,3 +125,35 @@ fn a_solver_runs_on_the_threads_it_is_given() {
     let mut solver = Solver::new(sim, Backend::Cpu);
     assert!(solver.set_threads(Some(0)).is_err());
 }
+
+/// `measure_methods` runs a method with the two-level step's coarse correction when asked, on
+/// the same frozen substep and reference: on the strip whose step pulls it up (a smooth,
+/// large-scale error) the corrected Chebyshev run is nearer the reference after as many
+/// iterations, and measuring changes nothing (the simulation's own coarse grid, none here,
+/// put back).
+#[test]
+fn the_two_level_run_is_measured_beside_the_plain_one() {
+    use tailor_core::solver::MethodRun;
+    let mut sim = stretched_strip();
+    let before = sim.state_hash();
+    let runs = [
+        MethodRun { method: Method::Chebyshev, iterations: 60, two_level: false },
+        MethodRun { method: Method::Chebyshev, iterations: 60, two_level: true },
+    ];
+    let m = sim.measure_methods(1.0 / 30.0, &runs, ReferenceOptions::default(), &|_| true).unwrap();
+    assert_eq!(sim.state_hash(), before, "measuring must not change the simulation");
+    let (plain, two) = (&m.methods[0], &m.methods[1]);
+    assert!(!plain.two_level && two.two_level);
+    for k in [4usize, 14, 29, 59] {
+        println!(
+            "it {:2}: plain dist {:.2e} obj {:.2e} | two-level dist {:.2e} obj {:.2e}",
+            k + 1,
+            plain.records[k].measures.distance_rel,
+            plain.records[k].measures.objective_rel,
+            two.records[k].measures.distance_rel,
+            two.records[k].measures.objective_rel
+        );
+    }
+    let (p, t) = (plain.records[14].measures, two.records[14].measures);
+    assert!(t.distance_rel < 0.5 * p.distance_rel, "after 15 iterations: plain {p:?}, two-level {t:?}");
+}

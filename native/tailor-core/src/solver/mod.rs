@@ -31,7 +31,7 @@ pub mod stats;
 
 pub use crate::quality::QualityMetrics;
 pub use accuracy::{
-    ErrorMeasures, IterationRecord, MethodsMeasurement, ReferenceInfo, ReferenceOptions, StepMeasurement,
+    ErrorMeasures, IterationRecord, MethodRun, MethodsMeasurement, ReferenceInfo, ReferenceOptions, StepMeasurement,
 };
 pub use collide::{ColliderId, CollisionSkips, ImplicitCollider, MeshColliderOptions, SelfCollisionSettings, Shape};
 pub use model::constraints::{Attachment, ColliderAttachment, Seam, SeamPoint};

@@ -10,7 +10,9 @@
 //!
 //! [`Simulation::measure_step`] freezes one substep's problem (prediction and contacts), solves
 //! it with the reference solver, then runs the chosen method iteration by iteration, timing only
-//! the iterations, and restores the simulation afterwards: measuring changes nothing.
+//! the iterations, and restores the simulation afterwards: measuring changes nothing. A method
+//! may run with the two-level step's coarse correction after every sweep ([`MethodRun`]), as
+//! `SolverSettings::two_level` runs it.
 
 use std::time::Instant;
 
@@ -19,6 +21,7 @@ use crate::solver::accuracy::reference::ReferenceInfo;
 use crate::solver::model::settings::Method;
 use crate::solver::model::soa::Vec3Soa;
 use crate::solver::simulation::Simulation;
+use crate::solver::stages::coarse::CoarseLevel;
 use crate::solver::stages::StageTimings;
 
 /// The three error measures of one iterate.
@@ -45,8 +48,26 @@ pub struct IterationRecord {
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepMeasurement {
     pub method: Method,
+    /// Run with the two-level step's coarse correction after every sweep.
+    pub two_level: bool,
     pub reference: ReferenceInfo,
     pub records: Vec<IterationRecord>,
+}
+
+/// One method to measure: `iterations` of `method`, with the two-level step's coarse
+/// correction after every sweep when `two_level` (its coarse grid built from the frozen
+/// substep's matrix before the clock starts, as a substep's preparation builds it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodRun {
+    pub method: Method,
+    pub iterations: u32,
+    pub two_level: bool,
+}
+
+impl From<(Method, u32)> for MethodRun {
+    fn from((method, iterations): (Method, u32)) -> Self {
+        MethodRun { method, iterations, two_level: false }
+    }
 }
 
 /// Limits of the reference solve.
@@ -93,7 +114,8 @@ impl Simulation {
         iterations: u32,
         ro: ReferenceOptions,
     ) -> Result<StepMeasurement> {
-        let mut out = self.measure_frozen(h, &[(method, iterations)], ro, &|_| true, false)?;
+        let run = MethodRun { method, iterations, two_level: self.settings.two_level };
+        let mut out = self.measure_frozen(h, &[run], ro, &|_| true, false)?;
         Ok(out.methods.remove(0))
     }
 
@@ -105,14 +127,14 @@ impl Simulation {
     pub fn measure_methods(
         &mut self,
         dt: f32,
-        methods: &[(Method, u32)],
+        methods: &[MethodRun],
         reference: ReferenceOptions,
         keep: &dyn Fn(u32) -> bool,
     ) -> Result<MethodsMeasurement> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(TailorError::setting("dt", dt, "the time step must be positive and finite"));
         }
-        if let Some((_, 0)) = methods.iter().find(|(_, n)| *n == 0) {
+        if methods.iter().any(|r| r.iterations == 0) {
             return Err(TailorError::setting("iterations", 0, "must be at least 1"));
         }
         let saved = self.save_state();
@@ -124,7 +146,7 @@ impl Simulation {
     fn measure_frozen(
         &mut self,
         h: f32,
-        methods: &[(Method, u32)],
+        methods: &[MethodRun],
         ro: ReferenceOptions,
         keep: &dyn Fn(u32) -> bool,
         record_reference: bool,
@@ -166,7 +188,14 @@ impl Simulation {
         drop(ref_iterates);
 
         let mut out = Vec::with_capacity(methods.len());
-        for &(method, iterations) in methods {
+        // Each run has the coarse grid it asks for; the simulation's own is put back after.
+        let own_coarse = self.coarse.take();
+        for &MethodRun { method, iterations, two_level } in methods {
+            self.coarse = two_level.then(|| {
+                let mut c = CoarseLevel::build(&self.model.matrix32, &self.free);
+                c.set_values(&self.model.matrix32, &self.diag);
+                c
+            });
             self.x.copy_from(&x0);
             let mut timings = StageTimings::default();
             let start = Instant::now();
@@ -181,8 +210,9 @@ impl Simulation {
                 excluded += t.elapsed().as_secs_f64();
             });
             let records = measured.iter().map(|(k, t, x)| measure(self, *k, *t, x)).collect();
-            out.push(StepMeasurement { method, reference, records });
+            out.push(StepMeasurement { method, two_level, reference, records });
         }
+        self.coarse = own_coarse;
         Ok(MethodsMeasurement { reference, reference_records, methods: out })
     }
 }

@@ -17,5 +17,5 @@ pub mod measures;
 mod objective;
 mod reference;
 
-pub use measures::{ErrorMeasures, IterationRecord, MethodsMeasurement, ReferenceOptions, StepMeasurement};
+pub use measures::{ErrorMeasures, IterationRecord, MethodRun, MethodsMeasurement, ReferenceOptions, StepMeasurement};
 pub use reference::ReferenceInfo;

@@ -67,7 +67,7 @@ pub struct Simulation {
     pub(crate) pin_target: Vec3Soa,
     pub(crate) ramp: Ramp,
     pub(crate) cheb: Chebyshev,
-    free: Vec<u32>,
+    pub(crate) free: Vec<u32>,
     /// The two-level global step's coarse grid (`stages/coarse.rs`), when it is on.
     pub(crate) coarse: Option<crate::solver::stages::coarse::CoarseLevel>,
     pub(crate) h_prepared: f32,

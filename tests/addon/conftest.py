@@ -66,3 +66,16 @@ def import_pattern(path: Path, **kwargs) -> list:
     before = set(bpy.data.objects)
     assert bpy.ops.tailor.import_pattern(filepath=str(path), **kwargs) == {"FINISHED"}
     return sorted((o for o in bpy.data.objects if o not in before), key=lambda o: o.name)
+
+
+def evaluated_world(obj):
+    """`obj`'s vertices after its modifiers (a Mesh Cache playing), in world space ((n, 3) float64)."""
+    import numpy as np
+
+    ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    me = ev.to_mesh()
+    co = np.empty(len(me.vertices) * 3, np.float32)
+    me.vertices.foreach_get("co", co)
+    world = np.array(ev.matrix_world, np.float64)
+    ev.to_mesh_clear()
+    return co.reshape(-1, 3).astype(np.float64) @ world[:3, :3].T + world[:3, 3]

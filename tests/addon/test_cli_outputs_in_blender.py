@@ -11,7 +11,7 @@ import sys
 import bpy
 import numpy as np
 
-from conftest import DATA
+from conftest import DATA, evaluated_world
 
 SKIRT = DATA / "garmentcode" / "flare_skirt_specification.json"
 FRAMES = 3
@@ -26,17 +26,6 @@ def plate_obj(path, height: float = 0.9, half: float = 0.6) -> None:
 def y_up_to_z_up(p: np.ndarray) -> np.ndarray:
     """Blender's importers turn a Y-up file into its Z-up world: (x, y, z) -> (x, -z, y)."""
     return np.stack([p[:, 0], -p[:, 2], p[:, 1]], axis=1)
-
-
-def evaluated_world(obj) -> np.ndarray:
-    dg = bpy.context.evaluated_depsgraph_get()
-    ev = obj.evaluated_get(dg)
-    me = ev.to_mesh()
-    co = np.empty(len(me.vertices) * 3, np.float32)
-    me.vertices.foreach_get("co", co)
-    m = np.array(ev.matrix_world, np.float64)
-    ev.to_mesh_clear()
-    return co.reshape(-1, 3).astype(np.float64) @ m[:3, :3].T + m[:3, 3]
 
 
 def imported_mesh(op, path, **kw):

@@ -15,6 +15,7 @@ import sys
 import bpy
 import numpy as np
 
+from conftest import evaluated_world
 from simulate_scene import shirt_on_character
 
 FRAMES = (1, 4)
@@ -25,17 +26,7 @@ BOUND_M = 1e-5
 
 def world_positions(objects) -> np.ndarray:
     """The objects' evaluated vertices in world space, one after another."""
-    dg = bpy.context.evaluated_depsgraph_get()
-    out = []
-    for o in objects:
-        ev = o.evaluated_get(dg)
-        me = ev.to_mesh()
-        co = np.empty(len(me.vertices) * 3, np.float32)
-        me.vertices.foreach_get("co", co)
-        m = np.array(ev.matrix_world, np.float64)
-        ev.to_mesh_clear()
-        out.append(co.reshape(-1, 3).astype(np.float64) @ m[:3, :3].T + m[:3, 3])
-    return np.concatenate(out)
+    return np.concatenate([evaluated_world(o) for o in objects])
 
 
 def test_the_command_line_bakes_the_frames_the_addon_bakes(addon, tmp_path):

@@ -9,21 +9,10 @@ import pytest
 
 import bpy
 
+from conftest import evaluated_world
 from simulate_scene import shirt_on_character
 
 FRAMES = (1, 4)
-
-
-def evaluated(obj) -> np.ndarray:
-    dg = bpy.context.evaluated_depsgraph_get()
-    ev = obj.evaluated_get(dg)
-    me = ev.to_mesh()
-    co = np.empty(len(me.vertices) * 3, np.float32)
-    me.vertices.foreach_get("co", co)
-    world = np.array(ev.matrix_world, np.float64)
-    ev.to_mesh_clear()
-    co = co.reshape(-1, 3).astype(np.float64)
-    return co @ world[:3, :3].T + world[:3, 3]
 
 
 @pytest.fixture
@@ -67,8 +56,8 @@ def test_the_welded_animation_reads_back_frame_by_frame(baked, addon, tmp_path, 
     moved = 0.0
     for k, f in enumerate(range(FRAMES[0], FRAMES[1] + 1)):
         scene.frame_set(f)
-        np.testing.assert_allclose(evaluated(obj), frames[k], atol=1e-5)
-        np.testing.assert_allclose(evaluated(read), frames[k], atol=1e-4)
+        np.testing.assert_allclose(evaluated_world(obj), frames[k], atol=1e-5)
+        np.testing.assert_allclose(evaluated_world(read), frames[k], atol=1e-4)
         moved = max(moved, float(np.abs(frames[k] - frames[0]).max()))
     assert moved > 1e-3, "the exported garment does not move over the frames"
     if fmt == "USD":  # the thickness the cloth kept from the body, as `tailor simulate --usd` writes it
@@ -83,7 +72,7 @@ def test_the_welded_animation_reads_back_frame_by_frame(baked, addon, tmp_path, 
     again = export(export_format="NONE")
     assert again.name != obj.name and (tmp_path / "tailor_cache" / f"{bpy.path.clean_name(again.name)}.pc2").is_file()
     scene.frame_set(FRAMES[1])
-    np.testing.assert_allclose(evaluated(obj), frames[-1], atol=1e-5)
+    np.testing.assert_allclose(evaluated_world(obj), frames[-1], atol=1e-5)
 
 
 @pytest.mark.parametrize("fmt", ["ABC", "USD"])
@@ -98,7 +87,7 @@ def test_per_piece_writes_the_pieces_as_the_bake_plays_them(baked, addon, tmp_pa
     expected = {}
     for f in FRAMES:
         scene.frame_set(f)
-        expected[f] = {p.name: evaluated(p) for p in pieces}
+        expected[f] = {p.name: evaluated_world(p) for p in pieces}
     op = bpy.ops.wm.alembic_import if fmt == "ABC" else bpy.ops.wm.usd_import
     assert op(filepath=str(path)) == {"FINISHED"}
     read = [o for o in set(bpy.data.objects) - before if o.type == "MESH"]
@@ -112,7 +101,7 @@ def test_per_piece_writes_the_pieces_as_the_bake_plays_them(baked, addon, tmp_pa
             # Matched by name (the importers keep the object's or its mesh's), else by vertex count.
             twin = next((o for o in read if p.name in o.name or p.data.name in o.name), None)
             twin = twin or by_count[len(p.data.vertices)][0]
-            np.testing.assert_allclose(evaluated(twin), expected[f][p.name], atol=1e-4)
+            np.testing.assert_allclose(evaluated_world(twin), expected[f][p.name], atol=1e-4)
     with pytest.raises(RuntimeError, match="Per Piece with Object Only"):
         bpy.ops.tailor.export_animation(export_format="NONE", per_piece=True)
 

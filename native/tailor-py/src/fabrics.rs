@@ -15,9 +15,9 @@ impl From<tailor_core::solver::Fabric> for Fabric {
 }
 
 /// The solver fabric of the library's fabric `name` (InvalidParameterError naming the library's
-/// fabrics for another name).
+/// fabrics for another name); `Fabric.named` calls it inside its guard.
 pub fn named(name: &str) -> PyResult<Fabric> {
-    guard(|| core::named(name).map(|m| Fabric::from(m.fabric())).map_err(to_py))
+    core::named(name).map(|m| Fabric::from(m.fabric())).map_err(to_py)
 }
 
 fn entry<'py>(py: Python<'py>, m: &MeasuredFabric) -> PyResult<Bound<'py, PyDict>> {

@@ -44,7 +44,7 @@ impl Fabric {
     /// lists them with their measured properties).
     #[staticmethod]
     fn named(name: &str) -> PyResult<Self> {
-        crate::fabrics::named(name)
+        crate::errors::guard(|| crate::fabrics::named(name))
     }
 
     fn __repr__(&self) -> PyResult<String> {

@@ -596,3 +596,26 @@ def test_set_thickness_marks_every_mesh_of_a_usd_file_another_exporter_wrote(tmp
         set_thickness(junk, 0.004)
     with pytest.raises(ValueError, match="thickness"):
         set_thickness(path, -1.0)
+
+
+def test_fabric_makes_every_piece_a_library_fabric(tmp_path):
+    """`--fabric NAME`: every piece that fabric of the library (the cloth moves otherwise than
+    with the file's own), the report says which; an unknown name is one line naming the
+    library's fabrics, exit 2, before any work."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
+    common = ["--collider", body, "--frames", "3", "--preset", "preview"]
+    r = cli("simulate", garment, *common, "--report", tmp_path / "own.json", "-o", tmp_path / "own.pc2")
+    assert r.returncode in (0, 3), r.stderr
+    r = cli("simulate", garment, *common, "--report", tmp_path / "denim.json", "-o", tmp_path / "denim.pc2",
+            "--fabric", "11oz-black-denim")
+    assert r.returncode in (0, 3), r.stderr
+    assert json.loads((tmp_path / "denim.json").read_text())["fabric"] == "11oz-black-denim"
+    assert json.loads((tmp_path / "own.json").read_text())["fabric"] is None
+    own, denim = (tailor.read_pc2(tmp_path / f"{n}.pc2")["frames"] for n in ("own", "denim"))
+    assert np.abs(own[-1] - denim[-1]).max() > 1e-4
+    bad = cli("simulate", garment, *common, "--report", tmp_path / "bad.json", "--fabric", "velvet")
+    assert bad.returncode == 2 and "velvet" in bad.stderr and "11oz-black-denim" in bad.stderr, bad.stderr
+    assert "Traceback" not in bad.stderr and len(bad.stderr.strip().splitlines()) == 1

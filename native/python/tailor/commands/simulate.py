@@ -73,6 +73,7 @@ add-on, in the core (``Garment.build_simulation``): fabric per piece, painted ma
 collision levels, friction, mass and bend scales), thickness, self-collision with its radius and
 the cloth's friction, the collider's collision levels, and painted pins, which ride on the
 collider once every seam has met. ``--thickness`` and ``--self-collision`` override the file's.
+``--fabric NAME`` makes every piece that fabric of the library (``tailor.fabric_library()``).
 ``--preset`` (default ``final``) gives substeps, iterations and tolerance, as the add-on's
 Quality does (``tailor.Settings.preset``); ``--substeps`` and ``--iterations`` override it;
 ``--two-level`` adds the two-level global step (``Settings.two_level``).
@@ -144,6 +145,9 @@ def register(sub):
     p.add_argument("--two-level", action="store_true",
                    help="the two-level global step: a coarse-grid correction after each sweep, so that bending and "
                         "large-scale stretch converge (CPU only; docs/accuracy.md)")
+    p.add_argument("--fabric", metavar="NAME",
+                   help="every piece of this fabric from the library (tailor.fabric_library(); default: the garment "
+                        "file's fabrics)")
     p.add_argument("--thickness", type=float, help="collision thickness, metres (default: the garment file's)")
     p.add_argument("--self-collision", action="store_true", default=None,
                    help="turn on cloth self-collision (default: as the garment file says, else off)")
@@ -180,6 +184,8 @@ def run(args):
     up = args.up or ("z" if Path(args.collider).suffix.lower() == ".ply" else "y")
     warnings = []
     garment = tailor.Garment.load(args.garment)
+    if args.fabric is not None:  # a library name, resolved (or refused, naming the library) by the setup
+        garment.setup = {**garment.setup, "fabrics": [args.fabric] * len(garment.pieces)}
     collider_up, up = up, garment.setup.get("up") or up
     gravity = (0.0, -9.81, 0.0) if up == "y" else (0.0, 0.0, -9.81)
     if args.edge is not None:  # --edge 0 is an error (set_resolution names it), not "keep"
@@ -289,7 +295,7 @@ def run(args):
                "collider_up": collider_up, "two_level": settings.two_level,
                "assembly": {"at": "rest" if at_rest else "start", "preroll_frames": run.preroll_frames,
                             "transition_frames": transition, "gravity": gravity0 is None},
-               "outputs": "per piece" if args.per_piece else "welded", "complete": complete}
+               "outputs": "per piece" if args.per_piece else "welded", "fabric": args.fabric, "complete": complete}
         Path(args.report).parent.mkdir(parents=True, exist_ok=True)
         tmp = args.report + ".tmp"
         with open(tmp, "w") as fh:

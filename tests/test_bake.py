@@ -372,3 +372,16 @@ def test_a_native_step_hands_back_its_error_and_the_simulation(square):
     np.testing.assert_array_equal(sim.positions, before)
     m = sim.metrics_async(None).finish()
     assert m == sim.metrics(None)
+
+
+def test_the_summarys_frame_time_leaves_the_start_frame_out(tube):
+    """The start frame (the assembly's end) is marked `start` and its time, the whole assembly's,
+    is not a frame's: the summary's mean `ms` is over the frames that were a step (over the
+    start frame alone when it is the only record)."""
+    sim = tailor.Simulation(tube["positions"], tube["triangles"], tube["rest"], backend="cpu")
+    run = bake.Bake(sim, [], fps=30.0, start=1, preroll=5)
+    for _ in range(3):
+        run.step([])
+    assert [r["start"] for r in run.records] == [True, False, False]
+    assert bake.summarize(run.records)["ms"] == pytest.approx(np.mean([r["ms"] for r in run.records[1:]]))
+    assert bake.summarize(run.records[:1])["ms"] == pytest.approx(run.records[0]["ms"])

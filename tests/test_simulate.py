@@ -51,6 +51,16 @@ def write_sphere_obj(path, center, radius, subdivisions=3):
             fh.write(f"f {a + 1} {b + 1} {c + 1}\n")
 
 
+def coarse_skirt_on_a_ball(tmp_path):
+    """The skirt imported at 8 cm edges and `tailor simulate`'s arguments for 3 Preview frames
+    on a ball under it: (garment file, arguments after the garment)."""
+    garment = tmp_path / "skirt.json"
+    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
+    body = tmp_path / "ball.obj"
+    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
+    return garment, ["--collider", body, "--frames", "3", "--preset", "preview"]
+
+
 def test_skirt_on_a_sphere_with_report_and_cache(tmp_path):
     garment = tmp_path / "skirt.json"
     r = cli("import", SKIRT, "--edge", "0.05", "-o", garment)
@@ -84,11 +94,7 @@ def test_per_piece_writes_the_pieces_as_solved_and_resumes(tmp_path):
     piece and frame, one USD mesh a piece named after it; a killed per-piece run resumes."""
     from pxr import Usd, UsdGeom
 
-    garment = tmp_path / "skirt.json"
-    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
-    body = tmp_path / "ball.obj"
-    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
-    common = ["--collider", body, "--frames", "3", "--preset", "preview"]
+    garment, common = coarse_skirt_on_a_ball(tmp_path)
     r = cli("simulate", garment, *common, "--report", tmp_path / "w.json", "-o", tmp_path / "welded.pc2")
     assert r.returncode in (0, 3), r.stderr
     r = cli("simulate", garment, *common, "--report", tmp_path / "p.json", "-o", tmp_path / "pieces.pc2",
@@ -602,11 +608,7 @@ def test_fabric_makes_every_piece_a_library_fabric(tmp_path):
     """`--fabric NAME`: every piece that fabric of the library (the cloth moves otherwise than
     with the file's own), the report says which; an unknown name is one line naming the
     library's fabrics, exit 2, before any work."""
-    garment = tmp_path / "skirt.json"
-    assert cli("import", SKIRT, "--edge", "0.08", "-o", garment).returncode == 0
-    body = tmp_path / "ball.obj"
-    write_sphere_obj(body, (0.0, 0.9, 0.0), 0.15, subdivisions=2)
-    common = ["--collider", body, "--frames", "3", "--preset", "preview"]
+    garment, common = coarse_skirt_on_a_ball(tmp_path)
     r = cli("simulate", garment, *common, "--report", tmp_path / "own.json", "-o", tmp_path / "own.pc2")
     assert r.returncode in (0, 3), r.stderr
     r = cli("simulate", garment, *common, "--report", tmp_path / "denim.json", "-o", tmp_path / "denim.pc2",

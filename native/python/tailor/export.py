@@ -49,8 +49,6 @@ class WeldedGarment:
     frame. The weld's topology is the garment's alone (seam pairs and triangles), so two runs of
     one garment file weld alike, as a resumed cache needs."""
 
-    welded = True
-
     def __init__(self, sim: Simulation, name: str = "garment"):
         triangles = np.asarray(sim.triangles, np.uint32)
         self.weld = weld(sim.positions, triangles, sim.seam_pairs())
@@ -75,8 +73,6 @@ class PieceGarment:
     piece after piece in the garment file's order; `parts` one per piece (`names`, `counts` of
     vertices and `triangle_counts`, as `Garment.meshes()` gives them), each with its own
     triangles and its pattern's UVs."""
-
-    welded = False
 
     def __init__(self, sim: Simulation, names: list[str], counts: list[int], triangle_counts: list[int]):
         triangles = np.asarray(sim.triangles, np.uint32)

@@ -111,9 +111,11 @@ def register(sub):
                    help="write the garment's positions, frame by frame as they are solved, and beside it CACHE.obj, "
                         "the mesh the cache deforms (welded along the seams unless --per-piece)")
     p.add_argument("--usd", metavar="GARMENT.usd",
-                   help="also write the garment welded along its seams as USD (.usd, .usda or .usdc; needs usd-core)")
+                   help="also write the garment as USD (.usd, .usda or .usdc; needs usd-core), welded along its seams unless "
+                        "--per-piece")
     p.add_argument("--obj-dir", metavar="DIR",
-                   help="also write the garment welded along its seams as one OBJ a frame (DIR/NAME.0001.obj, ...)")
+                   help="also write the garment as one OBJ a frame (DIR/NAME.0001.obj, ...), welded along its seams unless "
+                        "--per-piece (then DIR/NAME.PIECE.0001.obj)")
     p.add_argument("--per-piece", action="store_true",
                    help="write -o, --usd and --obj-dir piece by piece as the solver holds them (default: the garment "
                         "welded along its seams, one surface)")

@@ -167,6 +167,14 @@ def test_self_collision_radius_and_cloth_friction_pass_through_or_stay_automatic
         pytest.approx(0.6), pytest.approx(0.4))
     with pytest.raises(tailor.InvalidParameterError, match="friction.static"):
         core_sim.build(g, core_sim.SimSettings(friction_static=-0.1), FABRICS, [{}, {}], col)
+    # Triangle contacts: the radius is the distance kept from a triangle, 4 mm when automatic.
+    tri = core_sim.build(g, core_sim.SimSettings(self_collision=True, self_collision_contacts="TRIANGLES"), FABRICS,
+                         [{}, {}], col).sim.self_collision
+    assert tri["contacts"] == "triangles" and tri["radius"] == pytest.approx(tailor.DEFAULT_THICKNESS)
+    assert auto.sim.self_collision["contacts"] == "spheres"
+    with pytest.raises(tailor.InvalidParameterError, match="self_collision_contacts"):
+        core_sim.build(g, core_sim.SimSettings(self_collision=True, self_collision_contacts="CUBES"), FABRICS,
+                       [{}, {}], col)
     for bad in (float("nan"), -0.001):
         with pytest.raises(tailor.InvalidParameterError, match="self_collision_radius"):
             core_sim.build(g, core_sim.SimSettings(self_collision=True, self_collision_radius=bad), FABRICS,
@@ -184,7 +192,8 @@ def test_the_exported_setup_is_what_the_module_reads_back(tmp_path):
     pin[[1, 2]] = [1.0, 0.5]
     maps = [{"pin": (pin, pin > 0)}, {"collision_level": (np.full(n1, 3, np.int32), np.ones(n1, bool))}]
     body = np.array([0, 0, 1, 1, 0, 2, 0, 0], np.int32)
-    chosen = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007, friction_static=0.6)
+    chosen = core_sim.SimSettings(self_collision=True, self_collision_radius=0.007, friction_static=0.6,
+                                  self_collision_contacts="TRIANGLES")
     g = core_sim.garment_of(sg.tailor_garment(placements=None), "coat", chosen, fab, maps, body)
     g.save(tmp_path / "coat.json")
     back = tailor.Garment.load(tmp_path / "coat.json")
@@ -192,6 +201,8 @@ def test_the_exported_setup_is_what_the_module_reads_back(tmp_path):
     assert s == g.setup and s["name"] == "coat" and s["fabrics"][1] == {"density": 0.3, "stretch": 900.0,
                                                                         "shear": 90.0, "bend": 5e-5}
     assert s["self_collision"] and s["self_collision_radius"] == pytest.approx(0.007)
+    assert s["self_collision_contacts"] == "triangles"
+    assert core_sim.setup_settings(s)["self_collision_contacts"] == "TRIANGLES"
     assert s["thickness"] == pytest.approx(tailor.DEFAULT_THICKNESS)
     assert s["friction"] == {"static": pytest.approx(0.6), "kinetic": pytest.approx(0.3)}
     levels, warnings = back.collider_levels(8)

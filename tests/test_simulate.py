@@ -220,6 +220,27 @@ def test_a_sample_garment_file_simulates_with_its_own_settings(tmp_path):
     assert rep["attached"] == 0 and any("painted 'pin'" in w and "left out" in w for w in rep["warnings"]), rep["warnings"]
 
 
+def test_self_contacts_choose_the_cloth_cloth_model(tmp_path):
+    """Issue 23: `--self-contacts triangles` keeps particles off the cloth's triangles (on the
+    CPU), recorded in the report and the summary line; a garment file can say it too."""
+    garment, args = coarse_skirt_on_a_ball(tmp_path)
+    report = tmp_path / "r.json"
+    r = cli("simulate", garment, *args, "--report", report, "--self-collision", "--self-contacts", "triangles")
+    assert r.returncode in (0, 3), r.stderr
+    rep = json.loads(report.read_text())
+    assert rep["self_collision"] and rep["self_collision_contacts"] == "triangles"
+    assert rep["self_collision_radius_m"] == pytest.approx(tailor.DEFAULT_THICKNESS)
+    assert "self-collision on (triangles)" in r.stdout
+    g = tailor.Garment.load(garment)
+    g.setup = {**g.setup, "self_collision": True, "self_collision_contacts": "triangles"}
+    g.save(tmp_path / "tri.json")
+    r = cli("simulate", tmp_path / "tri.json", *args, "--report", report)
+    assert r.returncode in (0, 3), r.stderr
+    assert json.loads(report.read_text())["self_collision_contacts"] == "triangles"
+    r = cli("simulate", garment, *args, "--report", report, "--self-contacts", "cubes")
+    assert r.returncode == 2 and "spheres" in r.stderr
+
+
 def test_an_animated_collider_assembles_at_its_rest_pose_first(tmp_path):
     """Issue 24: `tailor simulate` assembles as the add-on's Bake does (its Preroll, Transition
     and Assemble Without Gravity defaults): on an animated collider the garment is sewn at the

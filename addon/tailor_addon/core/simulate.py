@@ -66,7 +66,8 @@ class SimSettings:
     ramp_closing_damping: float | None = None
     thickness: float = tailor.DEFAULT_THICKNESS
     self_collision: bool = False
-    self_collision_radius: float = 0.0  # sphere radius, metres; 0: half the mean rest edge
+    self_collision_radius: float = 0.0  # spheres: radius, 0: half the mean rest edge; triangles: 0: 4 mm
+    self_collision_contacts: str = "SPHERES"  # SPHERES | TRIANGLES (tailor's "spheres" | "triangles")
     fps: float = 30.0
     seam_stiffness: float = tailor.DEFAULT_SEAM_STIFFNESS  # the gap of a closed seam is tension / stiffness
     seam_bend_stiffness: float = tailor.DEFAULT_SEAM_BEND_STIFFNESS
@@ -108,6 +109,7 @@ class SimSettings:
             "friction": {"static": float(self.friction_static), "kinetic": float(self.friction_kinetic)},
             "self_collision": bool(self.self_collision),
             "self_collision_radius": float(self.self_collision_radius),
+            "self_collision_contacts": self.self_collision_contacts.lower(),
             "pin_mode": self.pin_mode.lower(),
             "pin_stiffness": float(self.pin_stiffness),
             "seam_stiffness": float(self.seam_stiffness),
@@ -126,6 +128,7 @@ def setup_settings(setup: dict) -> dict:
         "friction_kinetic": float(setup["friction"]["kinetic"]),
         "self_collision": bool(setup["self_collision"]),
         "self_collision_radius": float(setup["self_collision_radius"]),
+        "self_collision_contacts": str(setup.get("self_collision_contacts", "spheres")).upper(),
         "pin_mode": str(setup["pin_mode"]).upper(),
         "pin_stiffness": float(setup["pin_stiffness"]),
         "seam_stiffness": float(setup["seam_stiffness"]),

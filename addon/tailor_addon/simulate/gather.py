@@ -34,6 +34,7 @@ def sim_settings(scene) -> SimSettings:
         thickness=s.thickness,
         self_collision=s.self_collision,
         self_collision_radius=s.self_collision_radius,
+        self_collision_contacts=s.self_collision_contacts,
         fps=scene.render.fps / scene.render.fps_base,
         seam_stiffness=s.seam_stiffness,
         seam_bend_stiffness=s.seam_bend_stiffness,

@@ -123,10 +123,21 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
         name="Self-Collision", description="Cloth against itself (layered garments; fights closing seams)",
         default=False,
     )
+    self_collision_contacts: EnumProperty(
+        name="Contacts", description="What the cloth collides with itself by",
+        items=(
+            ("SPHERES", "Spheres", "A sphere round each particle, pairs pushed apart (the paper's model; a thick shell "
+             "that keeps layers apart but holds seams open)"),
+            ("TRIANGLES", "Triangles", "Each particle kept off the cloth's triangles on the side it was on, so it "
+             "cannot pass through between iterations (CPU only)"),
+        ),
+        default="SPHERES",
+    )
     self_collision_radius: FloatProperty(
-        name="Radius", description="Self-collision sphere radius of each particle (0: half the mean edge length). "
-        "Smaller lets layers lie closer, where a crease squeezes them; much under half an edge lets them pass "
-        "between particles", min=0.0, default=0.0, subtype="DISTANCE", unit="LENGTH", precision=4,
+        name="Radius", description="Spheres: the radius of each particle's sphere (0: half the mean edge length); "
+        "smaller lets layers lie closer, much under half an edge lets them pass between particles. Triangles: the "
+        "distance kept from a triangle (0: 4 mm)", min=0.0, default=0.0, subtype="DISTANCE", unit="LENGTH",
+        precision=4,
     )
     seam_stiffness: FloatProperty(name="Seam Stiffness", description="N/m, times each seam's factor", min=0.0,
                                   default=_SETUP["seam_stiffness"])

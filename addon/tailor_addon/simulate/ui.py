@@ -96,8 +96,9 @@ class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
         col.prop(s, "ramp_closing_damping")
         layout.prop(s, "thickness")
         layout.prop(s, "self_collision")
-        sub = layout.row()
+        sub = layout.column()
         sub.active = s.self_collision
+        sub.prop(s, "self_collision_contacts")
         sub.prop(s, "self_collision_radius")
         col = layout.column(align=True)
         col.prop(s, "seam_stiffness")

@@ -2,7 +2,7 @@
 ``tests/test_stub.py``)."""
 
 from os import PathLike
-from typing import Any, Sequence
+from typing import Any, Literal, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -218,6 +218,7 @@ class Simulation:
         radius: float | None = None,
         static_friction: float = 0.3,
         kinetic_friction: float = 0.2,
+        contacts: Literal["spheres", "triangles"] = "spheres",
     ) -> None: ...
     def fit_maps_async(self, collider: int | None = None) -> Pending:
         """`fit_maps` on a native thread (as `step_async`); `finish()` returns its dict."""
@@ -295,6 +296,12 @@ def write_pc2(
 ) -> None: ...
 def penetration(points: ArrayLike, vertices: ArrayLike, triangles_: ArrayLike) -> dict[str, Any]: ...
 def count_self_intersections(vertices: ArrayLike, triangles_: ArrayLike) -> int: ...
+def self_intersecting_pairs(
+    vertices: ArrayLike, triangles_: ArrayLike, joined: ArrayLike | None = None
+) -> npt.NDArray[np.uint32]:
+    """The pairs `count_self_intersections` counts, (k, 2), `i < j`, sorted; vertices `joined`
+    in pairs (k, 2) (sewn together) count as one."""
+    ...
 def edge_strain(positions: ArrayLike, edges: ArrayLike, rest_lengths: ArrayLike) -> dict[str, float]: ...
 def kinetic_energy(velocities: ArrayLike, masses: ArrayLike) -> float: ...
 def max_seam_gap(positions: ArrayLike, pairs_: ArrayLike) -> float: ...

@@ -59,15 +59,15 @@ class Dressed:
 
 def dress(garment, body: np.ndarray, triangles: np.ndarray, substeps: int = 8, iterations: int = 15,
           thickness: float | None = None, *, settings=None, backend: str = "auto",
-          self_collision: bool | None = None, collider_friction: tuple[float, float] | None = (0.6, 0.4),
+          self_collision: bool | None = None, self_contacts: str | None = None, collider_friction: tuple[float, float] | None = (0.6, 0.4),
           strict: bool = True, name: str | None = None) -> Dressed:
     """A simulation of `garment` (a `tailor.Garment`, or the path of a garment file) on a body
     (vertices `body`, triangles `triangles`), configured by the garment's own setup
     (`tailor.Garment.build_simulation`: fabric per piece, painted maps, thickness,
     self-collision) and the collider levels it records; its pins ride on the body once the
     seams have met (`tailor.bake.ColliderPins`). `settings` (a `tailor.Settings`; default
-    `substeps` x `iterations`, Y-up gravity), `backend`, `thickness` and `self_collision`
-    (override the garment's) and the body's `collider_friction` (None: the module's default)
+    `substeps` x `iterations`, Y-up gravity), `backend`, `thickness`, `self_collision`
+    and `self_contacts` ("spheres" or "triangles") (override the garment's) and the body's `collider_friction` (None: the module's default)
     are the caller's. `strict`: what the build left out (a painted map for another mesh,
     collider levels for another body) is an error; else it is in `info["warnings"]`."""
     import tailor
@@ -76,7 +76,8 @@ def dress(garment, body: np.ndarray, triangles: np.ndarray, substeps: int = 8, i
     if not isinstance(garment, tailor.Garment):
         path = str(garment)
         garment = tailor.Garment.load(path)
-    overrides = {k: v for k, v in (("thickness", thickness), ("self_collision", self_collision)) if v is not None}
+    overrides = {k: v for k, v in (("thickness", thickness), ("self_collision", self_collision),
+                                   ("self_collision_contacts", self_contacts)) if v is not None}
     if overrides:
         garment.setup = {**garment.setup, **overrides}
     if settings is None:
@@ -106,7 +107,7 @@ def dress(garment, body: np.ndarray, triangles: np.ndarray, substeps: int = 8, i
 
 
 #: The keys `setup_info` gives (what a report says of the setup in effect).
-SETUP_KEYS = ("levels", "self_collision", "self_collision_radius_m", "self_collision_friction", "thickness_m",
+SETUP_KEYS = ("levels", "self_collision", "self_collision_contacts", "self_collision_radius_m", "self_collision_friction", "thickness_m",
               "attached")
 
 
@@ -115,6 +116,7 @@ def setup_info(sim, garment, pins: ColliderPins) -> dict:
     return {
         "levels": sorted(set(int(x) for x in np.unique(sim.particle_levels))),
         "self_collision": bool(sim.self_collision["enabled"]),
+        "self_collision_contacts": str(sim.self_collision["contacts"]),
         "self_collision_radius_m": float(sim.self_collision["radius"]),
         "self_collision_friction": [float(sim.self_collision["static_friction"]),
                                     float(sim.self_collision["kinetic_friction"])],

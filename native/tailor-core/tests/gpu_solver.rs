@@ -15,7 +15,7 @@ use tailor_core::quality::metrics::count_self_intersections;
 use tailor_core::scenes::{rectangle, sewn_tube};
 use tailor_core::solver::{
     ActiveBackend, ColliderId, Fabric, ImplicitCollider, MeshColliderOptions, Method, RampPhase, SelfCollisionSettings,
-    Shape, Simulation, SolverSettings,
+    SelfContacts, Shape, Simulation, SolverSettings,
 };
 
 /// Bound on max |Δx| between CPU and GPU positions over the first 30 frames of the hanging
@@ -387,6 +387,24 @@ fn unsupported_frames_run_on_the_cpu_one_frame_at_a_time() {
     let w = st.warning.unwrap();
     assert!(w.contains("two-level"), "{w}");
     assert_eq!(cpu.state_hash(), g.simulation().state_hash(), "the CPU frame is the CPU step exactly");
+    // Triangle self-contacts (CPU only) likewise.
+    let mut chebyshev = settings.clone();
+    chebyshev.method = Method::Chebyshev;
+    let own = SelfCollisionSettings { enabled: true, contacts: SelfContacts::Triangles, ..Default::default() };
+    g.edit(|s| {
+        s.set_settings(chebyshev.clone())?;
+        s.set_self_collision(own)
+    })
+    .unwrap();
+    cpu.set_settings(chebyshev).unwrap();
+    cpu.set_self_collision(own).unwrap();
+    let st = g.step(1.0 / 30.0).unwrap();
+    cpu.step(1.0 / 30.0).unwrap();
+    assert_eq!(st.backend, ActiveBackend::Cpu);
+    let w = st.warning.unwrap();
+    assert!(w.contains("triangle self-contacts"), "{w}");
+    assert_eq!(cpu.state_hash(), g.simulation().state_hash(), "the CPU frame is the CPU step exactly");
+    g.edit(|s| s.set_self_collision(SelfCollisionSettings::default())).unwrap();
     // Supported again: the next frame is the GPU's, from the state the CPU left.
     settings.method = Method::GaussSeidel;
     g.edit(|s| s.set_settings(settings.clone())).unwrap();

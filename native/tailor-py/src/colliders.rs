@@ -212,6 +212,7 @@ pub fn self_collision_dict<'py>(
     d.set_item("enabled", s.enabled)?;
     d.set_item("radius", radius)?;
     d.set_item("radius_setting", s.radius)?;
+    d.set_item("contacts", s.contacts.name())?;
     d.set_item("static_friction", s.static_friction)?;
     d.set_item("kinetic_friction", s.kinetic_friction)?;
     Ok(d)
@@ -247,6 +248,29 @@ pub fn count_self_intersections(
     crate::errors::guard(|| {
         let (v, t) = (points3(vertices, "vertices")?, triangles(triangles_, "triangles")?);
         py.detach(|| metrics::count_self_intersections(&v, &t)).map_err(to_py)
+    })
+}
+
+/// The intersecting pairs of triangles that share no vertex, (k, 2) uint32, `i < j`, sorted;
+/// vertices `joined` in pairs (k, 2) (sewn together) count as one.
+#[pyfunction]
+#[pyo3(signature = (vertices, triangles_, joined=None))]
+pub fn self_intersecting_pairs<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    triangles_: &Bound<'py, PyAny>,
+    joined: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    crate::errors::guard(|| {
+        let (v, t) = (points3(vertices, "vertices")?, triangles(triangles_, "triangles")?);
+        let joined: Vec<[u32; 2]> = match joined {
+            Some(j) => pairs(j, "joined", v.len())?,
+            None => Vec::new(),
+        };
+        let pairs = py.detach(|| metrics::self_intersecting_pairs(&v, &t, &joined)).map_err(to_py)?;
+        let flat: Vec<u32> = pairs.into_iter().flatten().collect();
+        let n = flat.len() / 2;
+        Ok(numpy::PyArray1::from_vec(py, flat).reshape([n, 2])?.into_any())
     })
 }
 

@@ -56,6 +56,7 @@ fn _tailor(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(io::write_obj, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::penetration, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::count_self_intersections, m)?)?;
+    m.add_function(wrap_pyfunction!(colliders::self_intersecting_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::edge_strain, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::kinetic_energy, m)?)?;
     m.add_function(wrap_pyfunction!(colliders::max_seam_gap, m)?)?;

@@ -806,17 +806,21 @@ impl Simulation {
         })
     }
 
-    /// Self-collision: on/off, sphere radius (None = half the mean rest edge), friction.
-    #[pyo3(signature = (enabled=true, radius=None, static_friction=0.3, kinetic_friction=0.2))]
+    /// Self-collision: on/off, the radius (spheres: the sphere radius, None = half the mean
+    /// rest edge; triangles: the distance kept from a triangle, None = 4 mm), friction, and
+    /// the contact model, "spheres" or "triangles".
+    #[pyo3(signature = (enabled=true, radius=None, static_friction=0.3, kinetic_friction=0.2, contacts="spheres"))]
     fn set_self_collision(
         &mut self,
         enabled: bool,
         radius: Option<f32>,
         static_friction: f32,
         kinetic_friction: f32,
+        contacts: &str,
     ) -> PyResult<()> {
         crate::errors::guard(|| {
-            let s = core::SelfCollisionSettings { enabled, radius, static_friction, kinetic_friction };
+            let contacts = core::SelfContacts::named(contacts).map_err(to_py)?;
+            let s = core::SelfCollisionSettings { enabled, radius, contacts, static_friction, kinetic_friction };
             self.solver_mut()?.edit(|sim| sim.set_self_collision(s)).map_err(to_py)
         })
     }

@@ -81,6 +81,7 @@ Quality does (``tailor.Settings.preset``); ``--substeps`` and ``--iterations`` o
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 from pathlib import Path
@@ -151,8 +152,12 @@ def register(sub):
                    help="every piece of this fabric from the library (tailor.fabric_library(); default: the garment "
                         "file's fabrics)")
     p.add_argument("--thickness", type=float, help="collision thickness, metres (default: the garment file's)")
-    p.add_argument("--self-collision", action="store_true", default=None,
-                   help="turn on cloth self-collision (default: as the garment file says, else off)")
+    p.add_argument("--self-collision", action=argparse.BooleanOptionalAction, default=None,
+                   help="cloth self-collision on or off (default: as the garment file says, else off)")
+    p.add_argument("--self-contacts", choices=("spheres", "triangles"),
+                   help="the self-collision contact model: particle spheres, or particles kept off the cloth's "
+                        "triangles on the side they started each substep on (CPU only; default: the garment file's, "
+                        "else spheres)")
     p.set_defaults(run=run)
 
 
@@ -200,7 +205,8 @@ def run(args):
         substeps=preset.substeps if args.substeps is None else args.substeps,
         iterations=preset.iterations if args.iterations is None else args.iterations,
         tolerance=preset.tolerance, gravity=gravity, two_level=args.two_level)
-    if args.two_level and (args.self_collision or garment.setup.get("self_collision")):
+    self_on = args.self_collision if args.self_collision is not None else garment.setup.get("self_collision")
+    if args.two_level and self_on:
         print("note: the two-level step is not applied while self-collision is on (docs/accuracy.md)")
     if args.resume and not args.output:
         raise tailor.InvalidParameterError("--resume needs -o CACHE.pc2: the frames it goes on from")
@@ -219,7 +225,8 @@ def run(args):
             raise tailor.InvalidParameterError(f"{name} {v}: a number of frames is at least 0")
     pose0 = motion.rest if at_rest else motion.at(0)
     d = dressing.dress(garment, pose0, motion.triangles, settings=settings, backend=args.backend,
-                       thickness=args.thickness, self_collision=args.self_collision, collider_friction=None,
+                       thickness=args.thickness, self_collision=args.self_collision,
+                       self_contacts=args.self_contacts, collider_friction=None,
                        strict=False)
     sim, cid, pins = d.sim, d.collider, d.pins
     # What the outputs hold (tailor.export): made from the garment as dressed, before any step,
@@ -235,7 +242,8 @@ def run(args):
     print(f"simulate: {sim.num_particles} particles, {len(garment.seams)} seams, collider {len(motion.rest)} vertices "
           f"/ {len(motion.triangles)} triangles, {args.frames} frames at {args.fps:g} fps, up {up}, "
           f"backend {sim.backend}{f' ({sim.adapter})' if sim.adapter else ''}; thickness "
-          f"{setup['thickness_m'] * 1e3:g} mm, self-collision {'on' if setup['self_collision'] else 'off'}, "
+          f"{setup['thickness_m'] * 1e3:g} mm, self-collision "
+          f"{'on (' + setup['self_collision_contacts'] + ')' if setup['self_collision'] else 'off'}, "
           f"{settings.substeps} substeps x {settings.iterations} iterations ({args.preset}), "
           f"{setup['attached']} pinned particles")
     transition = args.transition if at_rest else 0

@@ -188,6 +188,17 @@ impl Default for SpatialHash {
 }
 
 impl SpatialHash {
+    /// Heap bytes of the table and of the scratch it keeps between builds.
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.starts.capacity() * size_of::<u32>()
+            + self.entries.capacity() * size_of::<Entry>()
+            + self.keys.capacity() * size_of::<Key>()
+            + self.block_keys.iter().map(|k| k.capacity() * size_of::<Key>()).sum::<usize>()
+            + self.block_offsets.capacity() * size_of::<usize>()
+            + (self.cursors.capacity() + self.slots.capacity()) * size_of::<AtomicU32>()
+    }
+
     /// An empty table (every query returns nothing until the first build).
     pub fn new() -> Self {
         Self {

@@ -29,7 +29,23 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, TailorError};
-use crate::solver::{Fabric, SelfCollisionSettings};
+use crate::solver::{Fabric, SelfCollisionSettings, SelfContacts};
+
+fn is_default_contacts(c: &SelfContacts) -> bool {
+    *c == SelfContacts::default()
+}
+
+/// The contact model by its name, an unknown one refused naming the field and the names.
+fn contacts_by_name<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<SelfContacts, D::Error> {
+    let name = String::deserialize(d)?;
+    SelfContacts::named(&name).map_err(|_| {
+        let names: Vec<_> = SelfContacts::ALL.iter().map(|c| c.name()).collect();
+        serde::de::Error::custom(format!(
+            "setup.self_collision_contacts is '{name}': must be one of {}",
+            names.join(", ")
+        ))
+    })
+}
 
 /// Default seam spring constant of a garment's seams, N/m per sewn pair.
 ///
@@ -168,8 +184,13 @@ pub struct GarmentSetup {
     /// The cloth's friction: against itself, and against colliders where painted.
     pub friction: Friction,
     pub self_collision: bool,
-    /// Self-collision sphere radius, metres; 0: half the mean rest edge.
+    /// Self-collision sphere radius, metres; 0: half the mean rest edge (spheres), the
+    /// collision thickness default (triangles: the distance kept from a triangle).
     pub self_collision_radius: f32,
+    /// The cloth-cloth contact model; not written while it is the default (older files read
+    /// and write unchanged).
+    #[serde(skip_serializing_if = "is_default_contacts", deserialize_with = "contacts_by_name")]
+    pub self_collision_contacts: SelfContacts,
     pub pin_mode: PinMode,
     /// N/m per weight-1 pin ([`PinMode::Attach`], and soft pins when fixed).
     pub pin_stiffness: f32,
@@ -193,6 +214,7 @@ impl Default for GarmentSetup {
             friction: DEFAULT_FRICTION,
             self_collision: false,
             self_collision_radius: 0.0,
+            self_collision_contacts: SelfContacts::default(),
             pin_mode: PinMode::Attach,
             pin_stiffness: DEFAULT_PIN_STIFFNESS,
             seam_stiffness: DEFAULT_SEAM_STIFFNESS,
@@ -264,6 +286,7 @@ impl GarmentSetup {
         SelfCollisionSettings {
             enabled: self.self_collision,
             radius: (r > 0.0).then_some(r),
+            contacts: self.self_collision_contacts,
             static_friction: self.friction.static_friction,
             kinetic_friction: self.friction.kinetic_friction,
         }

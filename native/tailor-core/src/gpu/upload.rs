@@ -19,6 +19,7 @@ use crate::solver::collide::collider_filing::PAD;
 use crate::solver::collide::mesh_collider::MeshCollider;
 use crate::solver::model::settings::Method;
 use crate::solver::model::SEAM_PAIRS_SET;
+use crate::solver::SelfContacts;
 use crate::solver::SolverView;
 
 impl GpuSolver {
@@ -29,6 +30,10 @@ impl GpuSolver {
         }
         if view.settings.two_level {
             return Some("the two-level global step (CPU only)".into());
+        }
+        let own = view.collide.self_settings;
+        if own.enabled && own.contacts == SelfContacts::Triangles {
+            return Some("triangle self-contacts (CPU only)".into());
         }
         // One dimension of dispatches covers 65535 workgroups of 64.
         let m = view.model;

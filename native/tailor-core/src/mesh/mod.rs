@@ -10,6 +10,7 @@
 //! manifold edges.
 
 mod topology;
+pub(crate) mod union_find;
 
 pub use topology::{Hinge, Topology};
 

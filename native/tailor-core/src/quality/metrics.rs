@@ -36,8 +36,20 @@ pub fn penetration(points: &[[f32; 3]], vertices: &[[f32; 3]], triangles: &[[u32
 /// vertex touch by construction and are skipped (so a crossing between two triangles of one
 /// fan is not counted).
 pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Result<usize> {
+    Ok(self_intersecting_pairs(vertices, triangles, &[])?.len())
+}
+
+/// The pairs [`count_self_intersections`] counts, `[i, j]` with `i < j`, sorted: where the
+/// cloth passes through itself. Vertices `joined` in pairs count as one as well (a garment's
+/// sewn vertices: the two sides of a closed seam meet as the welded garment's neighbouring
+/// triangles, not as an intersection).
+pub fn self_intersecting_pairs(
+    vertices: &[[f32; 3]],
+    triangles: &[[u32; 3]],
+    joined: &[[u32; 2]],
+) -> Result<Vec<[u32; 2]>> {
     if triangles.is_empty() {
-        return Ok(0);
+        return Ok(Vec::new());
     }
     let n = vertices.len();
     for (t, tri) in triangles.iter().enumerate() {
@@ -45,26 +57,34 @@ pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -
             return Err(TailorError::index(format!("cloth triangle {t}"), v as i64, n, "vertices"));
         }
     }
-    // Weld by exact position (-0.0 and 0.0 alike) so split seams keep their adjacency.
+    if let Some(&[a, b]) = joined.iter().find(|p| p.iter().any(|&v| v as usize >= n)) {
+        return Err(TailorError::index("joined vertices", a.max(b) as i64, n, "vertices"));
+    }
+    // Weld by exact position (-0.0 and 0.0 alike) so split seams keep their adjacency, and
+    // the joined pairs.
     let mut canonical = std::collections::HashMap::with_capacity(vertices.len());
-    let weld: Vec<u32> = vertices
-        .iter()
-        .enumerate()
-        .map(|(i, p)| *canonical.entry(p.map(|c| (c + 0.0).to_bits())).or_insert(i as u32))
-        .collect();
+    let mut classes = crate::mesh::union_find::UnionFind::new(n);
+    for (i, p) in vertices.iter().enumerate() {
+        let first = *canonical.entry(p.map(|c| (c + 0.0).to_bits())).or_insert(i as u32);
+        classes.union(first, i as u32);
+    }
+    for &[a, b] in joined {
+        classes.union(a, b);
+    }
+    let weld: Vec<u32> = (0..n as u32).map(|v| classes.find(v)).collect();
     let welded = |t: u32| triangles[t as usize].map(|v| weld[v as usize]);
     let l = aabb_cell_size(vertices, triangles);
     let mut hash = ColliderHash::new();
     hash.build(vertices, triangles, l, InsertionRule::Aabb)?;
     let tri = |t: u32| triangles[t as usize].map(|i| Vec3::from(vertices[i as usize]));
-    let count = (0..triangles.len() as u32)
+    let mut pairs: Vec<[u32; 2]> = (0..triangles.len() as u32)
         .into_par_iter()
-        .map(|i| {
+        .flat_map_iter(|i| {
             let ti = tri(i);
             let (lo_i, hi_i) = aabb_cells(ti, l);
             let (bmin_i, bmax_i) = (ti[0].min(ti[1]).min(ti[2]), ti[0].max(ti[1]).max(ti[2]));
             let vi = welded(i);
-            let mut found = 0usize;
+            let mut found = Vec::new();
             for z in lo_i[2]..=hi_i[2] {
                 for y in lo_i[1]..=hi_i[1] {
                     for x in lo_i[0]..=hi_i[0] {
@@ -86,7 +106,7 @@ pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -
                                 continue;
                             }
                             if triangles_intersect(ti, tj) {
-                                found += 1;
+                                found.push([i, j]);
                             }
                         }
                     }
@@ -94,8 +114,9 @@ pub fn count_self_intersections(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -
             }
             found
         })
-        .sum();
-    Ok(count)
+        .collect();
+    pairs.sort_unstable();
+    Ok(pairs)
 }
 
 /// Max and mean of `|ℓ / ℓ₀ − 1|` over edges.
@@ -239,6 +260,33 @@ mod tests {
         let mut v = v1;
         v.extend(v2);
         assert_eq!(count_self_intersections(&v, &t).unwrap(), 0);
+    }
+
+    #[test]
+    fn sewn_vertices_join_the_two_sides_of_a_seam() {
+        // Two pieces sewn along x = 1 (vertices 1-4 and 2-5), the second folded back a little
+        // so that its first triangle overlaps the first piece's across the seam line.
+        let v = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.99, 0.5, -0.1],
+            [1.0, 0.0, 0.01],
+            [1.0, 1.0, 0.01],
+            [0.95, 0.5, 0.2],
+        ];
+        let t = [[0, 1, 2], [4, 5, 3], [4, 5, 6]];
+        // Unsewn, the overlap at the seam counts; sewn, those triangles are neighbours.
+        let apart = self_intersecting_pairs(&v, &t, &[]).unwrap();
+        assert!(!apart.is_empty(), "{apart:?}");
+        assert!(self_intersecting_pairs(&v, &t, &[[1, 4], [2, 5]]).unwrap().is_empty());
+        // A crossing away from the seam still counts.
+        let mut v2 = v.to_vec();
+        v2.extend([[0.3, 0.3, -0.5], [0.3, 0.3, 0.5], [0.2, 0.6, 0.0]]);
+        let mut t2 = t.to_vec();
+        t2.push([7, 8, 9]);
+        assert_eq!(self_intersecting_pairs(&v2, &t2, &[[1, 4], [2, 5]]).unwrap(), vec![[0, 3]]);
+        assert!(self_intersecting_pairs(&v, &t, &[[1, 40]]).is_err());
     }
 
     #[test]

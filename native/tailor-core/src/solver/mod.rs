@@ -33,7 +33,9 @@ pub use crate::quality::QualityMetrics;
 pub use accuracy::{
     ErrorMeasures, IterationRecord, MethodRun, MethodsMeasurement, ReferenceInfo, ReferenceOptions, StepMeasurement,
 };
-pub use collide::{ColliderId, CollisionSkips, ImplicitCollider, MeshColliderOptions, SelfCollisionSettings, Shape};
+pub use collide::{
+    ColliderId, CollisionSkips, ImplicitCollider, MeshColliderOptions, SelfCollisionSettings, SelfContacts, Shape,
+};
 pub use model::constraints::{Attachment, ColliderAttachment, Seam, SeamPoint};
 pub use model::settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings, DEFAULT_THICKNESS, PRESETS};
 pub use model::soa::Vec3Soa;

@@ -26,16 +26,15 @@
 mod orient;
 mod points;
 mod split;
-mod union_find;
 
 use std::collections::HashMap;
 
 use crate::error::{Result, TailorError};
 use crate::garment::SolverInput;
+use crate::mesh::union_find::UnionFind;
 use crate::solver::Seam;
 use points::{classify, edge_set, EdgePoints, Point};
 use split::Corner;
-use union_find::UnionFind;
 
 /// What the weld did, and the shape of its result.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

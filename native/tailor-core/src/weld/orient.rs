@@ -12,7 +12,7 @@
 use std::collections::{HashMap, VecDeque};
 
 use super::points::key;
-use super::union_find::UnionFind;
+use crate::mesh::union_find::UnionFind;
 
 /// The connected component of each input triangle (components numbered 0..k).
 pub(super) fn components(triangles: &[[u32; 3]], n: usize) -> (Vec<u32>, usize) {

@@ -1,8 +1,9 @@
 //! Contacts and collisions in the solver, in one place: the cloth against analytic shapes
 //! ([`contacts`]: planes, spheres, capsules, with [`shape_check`] on their input), against
 //! animated characters ([`mesh_collider`], its hash filed by [`collider_filing`], its
-//! iterations' tests spared by [`mesh_broad_phase`]) and against itself ([`self_collide`]), Nylén et al.
-//! 2020, section 6; the rule that switches collisions off by level ([`levels`]); and the
+//! iterations' tests spared by [`mesh_broad_phase`]) and against itself: spheres
+//! ([`self_collide`], Nylén et al. 2020, section 6) or particles against triangles
+//! ([`self_triangles`] with the kernel [`point_triangle`], issue 23); the rule that switches collisions off by level ([`levels`]); and the
 //! collision state a simulation owns ([`Collisions`]).
 //!
 //! The geometric kernels (the spatial hash, closest points, intersection tests) are solver-free
@@ -21,16 +22,20 @@ pub mod levels;
 pub(crate) mod mesh_broad_phase;
 pub(crate) mod mesh_collider;
 pub(crate) mod occupancy;
+pub mod point_triangle;
 pub(crate) mod self_collide;
 pub(crate) mod self_movers;
+pub(crate) mod self_triangle_movers;
+pub(crate) mod self_triangles;
 pub(crate) mod shape_check;
 
 pub use contacts::{ImplicitCollider, Shape};
 pub use mesh_collider::{ColliderId, MeshColliderOptions};
-pub use self_collide::SelfCollisionSettings;
+pub use self_collide::{SelfCollisionSettings, SelfContacts};
 
 use self::mesh_collider::MeshCollider;
 use self::self_collide::SelfCollide;
+use self::self_triangles::SelfTriangles;
 use crate::solver::stats::CollisionStats;
 
 /// Marks a `ContactSet::collider` entry as mesh collider `c & !MESH_CONTACT`.
@@ -72,6 +77,7 @@ pub(crate) struct Collisions {
     pub(crate) friction: Option<(Vec<f32>, Vec<f32>)>,
     pub self_settings: SelfCollisionSettings,
     pub(crate) self_state: SelfCollide,
+    pub(crate) self_triangles: SelfTriangles,
     pub skips: CollisionSkips,
     /// Mesh contact of each particle: (triangle, barycentrics) on collider `ContactSet::collider`.
     pub(crate) contact_tri: Vec<u32>,
@@ -130,6 +136,7 @@ impl Collisions {
 
     pub fn invalidate_topology(&mut self) {
         self.self_state.invalidate();
+        self.self_triangles.invalidate();
     }
 
     /// Heap bytes of the per-particle collision state: contact pushes, the broad phase's
@@ -146,6 +153,7 @@ impl Collisions {
             + vec_bytes(&self.contact_tri)
             + vec_bytes(&self.contact_bary)
             + self.self_state.particle_bytes()
+            + self.self_triangles.particle_bytes()
     }
 
     pub(crate) fn particle_friction(&self, i: usize, default: (f32, f32)) -> (f32, f32) {

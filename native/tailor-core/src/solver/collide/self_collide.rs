@@ -38,8 +38,12 @@ use crate::solver::model::Model;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SelfCollisionSettings {
     pub enabled: bool,
-    /// Sphere radius, metres; `None` = half the mean rest edge length.
+    /// Spheres: the sphere radius, metres (`None` = half the mean rest edge length); triangles:
+    /// the distance kept between a particle and a triangle (`None` =
+    /// [`DEFAULT_THICKNESS`](crate::solver::model::settings::DEFAULT_THICKNESS)).
     pub radius: Option<f32>,
+    /// What collides: particle spheres, or particles against triangles.
+    pub contacts: SelfContacts,
     /// Friction between cloth particles (when no per-particle coefficients are set).
     pub static_friction: f32,
     pub kinetic_friction: f32,
@@ -47,7 +51,44 @@ pub struct SelfCollisionSettings {
 
 impl Default for SelfCollisionSettings {
     fn default() -> Self {
-        Self { enabled: false, radius: None, static_friction: 0.3, kinetic_friction: 0.2 }
+        Self {
+            enabled: false,
+            radius: None,
+            contacts: SelfContacts::default(),
+            static_friction: 0.3,
+            kinetic_friction: 0.2,
+        }
+    }
+}
+
+/// The cloth-cloth contact model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SelfContacts {
+    /// A sphere per particle, pairs pushed apart (the paper's model, `self_collide.rs`).
+    #[default]
+    Spheres,
+    /// Each particle kept off the cloth's triangles on the side it started the substep on
+    /// (`self_triangles.rs`): does not miss a crossing between iterations.
+    Triangles,
+}
+
+impl SelfContacts {
+    pub const ALL: [SelfContacts; 2] = [SelfContacts::Spheres, SelfContacts::Triangles];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SelfContacts::Spheres => "spheres",
+            SelfContacts::Triangles => "triangles",
+        }
+    }
+
+    /// The model named `name`, or an error listing the names.
+    pub fn named(name: &str) -> Result<Self> {
+        Self::ALL.into_iter().find(|c| c.name() == name).ok_or_else(|| {
+            let names: Vec<_> = Self::ALL.iter().map(|c| c.name()).collect();
+            TailorError::setting("self_collision.contacts", name, format!("must be one of {}", names.join(", ")))
+        })
     }
 }
 
@@ -103,7 +144,7 @@ const SMALL: usize = 4096;
 
 /// Vertices sewn to each vertex (every vertex of a seam point with non-zero weight is sewn to
 /// every such vertex of the other side).
-fn seam_partners(model: &Model) -> Vec<Vec<u32>> {
+pub(crate) fn seam_partners(model: &Model) -> Vec<Vec<u32>> {
     let mut partners = vec![Vec::new(); model.n()];
     for seam in &model.seams {
         for (a, b) in &seam.pairs {

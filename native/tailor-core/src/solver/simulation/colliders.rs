@@ -32,7 +32,11 @@ use crate::solver::collide::mesh_broad_phase::{rounding_margin, Reuse, Shortlist
 use crate::solver::collide::mesh_collider::MeshCollider;
 use crate::solver::collide::occupancy::ClothMotion;
 use crate::solver::collide::self_collide::PassInput;
-use crate::solver::collide::{ColliderId, CollisionSkips, MeshColliderOptions, SelfCollisionSettings, MESH_CONTACT};
+use crate::solver::collide::self_triangles::TrianglePassInput;
+use crate::solver::collide::{
+    ColliderId, CollisionSkips, MeshColliderOptions, SelfCollisionSettings, SelfContacts, MESH_CONTACT,
+};
+use crate::solver::model::settings::DEFAULT_THICKNESS;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// Box of the positions `a ∪ b`.
@@ -197,7 +201,11 @@ impl Simulation {
 
     /// Self-collision sphere radius in effect.
     pub fn self_collision_radius(&self) -> f32 {
-        self.collide.self_settings.radius.unwrap_or(0.5 * self.model.mesh.mean_edge_length() as f32)
+        let s = self.collide.self_settings;
+        s.radius.unwrap_or(match s.contacts {
+            SelfContacts::Spheres => 0.5 * self.model.mesh.mean_edge_length() as f32,
+            SelfContacts::Triangles => DEFAULT_THICKNESS,
+        })
     }
 
     // ----- solver hooks -----
@@ -358,7 +366,7 @@ impl Simulation {
         c.stats.contact_seconds += t0.elapsed().as_secs_f64();
     }
 
-    /// After each iteration's global step: the self-collision pass.
+    /// After each iteration's global step: the self-collision pass, spheres or triangles.
     pub(crate) fn self_collide_iteration(&mut self) {
         let s = self.collide.self_settings;
         if !s.enabled {
@@ -366,26 +374,45 @@ impl Simulation {
         }
         let t0 = Instant::now();
         let radius = self.self_collision_radius();
-        let cell = (self.model.mesh.mean_edge_length() as f32).max(2.0 * radius);
         let c = &mut self.collide;
         let friction = c.friction.as_ref().map(|(a, b)| (a.as_slice(), b.as_slice()));
         let fr = move |i: usize| match friction {
             Some((a, b)) => (a[i], b[i]),
             None => (s.static_friction, s.kinetic_friction),
         };
-        let inp = PassInput {
-            model: &self.model,
-            levels: &c.levels,
-            x_start: &self.x_start,
-            radius,
-            cell,
-            friction: &fr,
-            reuse: c.skips.reuse_self_pairs,
-        };
-        c.self_state.pass(&inp, &mut self.x);
-        c.stats.self_pairs = c.self_state.last_pairs;
-        c.stats.self_searches += std::mem::take(&mut c.self_state.searches);
-        c.stats.self_partial_searches += std::mem::take(&mut c.self_state.partial_searches);
+        match s.contacts {
+            SelfContacts::Spheres => {
+                let cell = (self.model.mesh.mean_edge_length() as f32).max(2.0 * radius);
+                let inp = PassInput {
+                    model: &self.model,
+                    levels: &c.levels,
+                    x_start: &self.x_start,
+                    radius,
+                    cell,
+                    friction: &fr,
+                    reuse: c.skips.reuse_self_pairs,
+                };
+                c.self_state.pass(&inp, &mut self.x);
+                c.stats.self_pairs = c.self_state.last_pairs;
+                c.stats.self_searches += std::mem::take(&mut c.self_state.searches);
+                c.stats.self_partial_searches += std::mem::take(&mut c.self_state.partial_searches);
+            }
+            SelfContacts::Triangles => {
+                let inp = TrianglePassInput {
+                    model: &self.model,
+                    levels: &c.levels,
+                    x_start: &self.x_start,
+                    thickness: radius,
+                    margin: radius.max(0.5 * self.model.mesh.mean_edge_length() as f32),
+                    friction: &fr,
+                    reuse: c.skips.reuse_self_pairs,
+                };
+                c.self_triangles.pass(&inp, &mut self.x);
+                c.stats.self_pairs = c.self_triangles.last_contacts;
+                c.stats.self_searches += std::mem::take(&mut c.self_triangles.searches);
+                c.stats.self_partial_searches += std::mem::take(&mut c.self_triangles.partial_searches);
+            }
+        }
         c.stats.self_seconds += t0.elapsed().as_secs_f64();
     }
 

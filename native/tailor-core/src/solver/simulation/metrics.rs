@@ -4,12 +4,31 @@ use super::Simulation;
 use crate::collision::closed_mesh::ClosedMesh;
 use crate::error::Result;
 use crate::quality::metrics::{
-    centroid, count_self_intersections, edge_strain, kinetic_energy_soa, on_body_fraction, ON_BODY_DISTANCE,
+    centroid, edge_strain, kinetic_energy_soa, on_body_fraction, self_intersecting_pairs, ON_BODY_DISTANCE,
 };
 use crate::quality::QualityMetrics;
 use crate::solver::collide::ColliderId;
 
 impl Simulation {
+    /// Every pair of vertices sewn together (each vertex of a seam point with a non-zero weight
+    /// with each of the other side's): the welded garment's shared vertices, for the
+    /// self-intersection count.
+    fn sewn_vertices(&self) -> Vec<[u32; 2]> {
+        let mut out = Vec::new();
+        for seam in &self.model.seams {
+            for (a, b) in &seam.pairs {
+                for (i, &va) in a.verts.iter().enumerate() {
+                    for (j, &vb) in b.verts.iter().enumerate() {
+                        if a.weights[i] > 0.0 && b.weights[j] > 0.0 {
+                            out.push([va, vb]);
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// Quality of the current state; `collider` names a closed mesh collider for the
     /// penetration count (at its current positions).
     pub fn metrics(&self, collider: Option<ColliderId>) -> Result<QualityMetrics> {
@@ -28,7 +47,7 @@ impl Simulation {
         q.particles = pos.len();
         q.centroid = centroid(&pos);
         q.seams_closing = self.seams_closing();
-        q.self_intersections = count_self_intersections(&pos, mesh.triangles())?;
+        q.self_intersections = self_intersecting_pairs(&pos, mesh.triangles(), &self.sewn_vertices())?.len();
         q.seam_gap = self.seam_gaps().0;
         let edges = &mesh.topology().edges;
         let rest = mesh.rest();

@@ -322,6 +322,8 @@ impl Simulation {
                     self.prepare(h);
                     self.predict(h);
                     self.prepare_mesh_collisions();
+                    // Triangle self-contacts take their sides from this substep's start.
+                    self.collide.self_triangles.begin_substep();
                     t[stage] = t0.elapsed().as_secs_f64();
                 }
                 // The iterations alternate the local and the global stage (`iterate` times each).

@@ -1,7 +1,7 @@
 //! Disjoint sets over node indices (path halving, union by size): which vertices and seam
-//! points become one welded vertex.
+//! points become one welded vertex (`weld`), which sewn vertices count as one (`quality`).
 
-pub(super) struct UnionFind {
+pub(crate) struct UnionFind {
     parent: Vec<u32>,
     size: Vec<u32>,
 }

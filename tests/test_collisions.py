@@ -115,6 +115,12 @@ def test_friction_and_self_collision_settings():
     sim.set_self_collision(radius=0.01, static_friction=0.2, kinetic_friction=0.1)
     s = sim.self_collision
     assert s["enabled"] and s["radius"] == pytest.approx(0.01) and s["radius_setting"] == pytest.approx(0.01)
+    assert s["contacts"] == "spheres"
+    sim.step(1 / 30)
+    # Triangle contacts: the radius is the distance kept from a triangle, 4 mm when automatic.
+    sim.set_self_collision(contacts="triangles")
+    s = sim.self_collision
+    assert s["contacts"] == "triangles" and s["radius"] == pytest.approx(tailor.DEFAULT_THICKNESS)
     sim.step(1 / 30)
 
 
@@ -150,6 +156,8 @@ def test_bad_input_raises_typed_errors():
         sim.set_particle_friction(np.array([0.1, 0.1, -1.0] + [0.1] * (sim.num_particles - 3)), np.full(sim.num_particles, 0.1))
     with pytest.raises(tailor.InvalidParameterError):
         sim.set_self_collision(radius=-1.0)
+    with pytest.raises(tailor.InvalidParameterError, match="self_collision.contacts.*spheres, triangles"):
+        sim.set_self_collision(contacts="cubes")
     with pytest.raises(tailor.InvalidMeshError):
         sim.metrics(3)
 
@@ -164,6 +172,13 @@ def test_metric_functions_over_arrays():
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, -0.5], [0.3, 0.2, 0.5], [0.2, 0.3, 0.5]], dtype=np.float32)
     assert tailor.count_self_intersections(v, [[0, 1, 2], [3, 4, 5]]) == 1
     assert tailor.count_self_intersections(v + np.array([[0, 0, 0]] * 3 + [[5, 0, 0]] * 3, np.float32), [[0, 1, 2], [3, 4, 5]]) == 0
+    # The pairs themselves; vertices joined (sewn) count as one, so the two triangles become
+    # neighbours; a joined index outside the vertices is refused.
+    pairs = tailor.self_intersecting_pairs(v, [[0, 1, 2], [3, 4, 5]])
+    assert pairs.dtype == np.uint32 and pairs.tolist() == [[0, 1]]
+    assert tailor.self_intersecting_pairs(v, [[0, 1, 2], [3, 4, 5]], joined=[[0, 3]]).shape == (0, 2)
+    with pytest.raises(tailor.InvalidMeshError, match="joined"):
+        tailor.self_intersecting_pairs(v, [[0, 1, 2], [3, 4, 5]], joined=[[0, 6]])
     sv, sf = octahedron_sphere(r=1.0)
     pen = tailor.penetration([[0, 0, 0], [0, 0, 2]], sv, sf)
     assert pen["count"] == 1 and pen["max_depth"] > 0.9

@@ -237,6 +237,10 @@ def test_self_contacts_choose_the_cloth_cloth_model(tmp_path):
     r = cli("simulate", tmp_path / "tri.json", *args, "--report", report)
     assert r.returncode in (0, 3), r.stderr
     assert json.loads(report.read_text())["self_collision_contacts"] == "triangles"
+    # --no-self-collision turns off what the file turns on.
+    r = cli("simulate", tmp_path / "tri.json", *args, "--report", report, "--no-self-collision")
+    assert r.returncode in (0, 3), r.stderr
+    assert json.loads(report.read_text())["self_collision"] is False and "self-collision off" in r.stdout
     r = cli("simulate", garment, *args, "--report", report, "--self-contacts", "cubes")
     assert r.returncode == 2 and "spheres" in r.stderr
 

@@ -7,26 +7,16 @@ use crate::quality::metrics::{
     centroid, edge_strain, kinetic_energy_soa, on_body_fraction, self_intersecting_pairs, ON_BODY_DISTANCE,
 };
 use crate::quality::QualityMetrics;
+use crate::solver::collide::self_collide::seam_partners;
 use crate::solver::collide::ColliderId;
 
 impl Simulation {
-    /// Every pair of vertices sewn together (each vertex of a seam point with a non-zero weight
-    /// with each of the other side's): the welded garment's shared vertices, for the
-    /// self-intersection count.
+    /// Every pair of vertices sewn together (`seam_partners`: each vertex of a seam point with a
+    /// non-zero weight with each of the other side's): the welded garment's shared vertices, for
+    /// the self-intersection count.
     fn sewn_vertices(&self) -> Vec<[u32; 2]> {
-        let mut out = Vec::new();
-        for seam in &self.model.seams {
-            for (a, b) in &seam.pairs {
-                for (i, &va) in a.verts.iter().enumerate() {
-                    for (j, &vb) in b.verts.iter().enumerate() {
-                        if a.weights[i] > 0.0 && b.weights[j] > 0.0 {
-                            out.push([va, vb]);
-                        }
-                    }
-                }
-            }
-        }
-        out
+        let partners = seam_partners(&self.model);
+        partners.iter().enumerate().flat_map(|(v, ps)| ps.iter().map(move |&p| [v as u32, p])).collect()
     }
 
     /// Quality of the current state; `collider` names a closed mesh collider for the

@@ -351,3 +351,18 @@ def test_one_seam_stiffness_default_on_every_path():
     props = (ROOT / "addon/tailor_addon/simulate/properties.py").read_text()
     assert re.search(r"seam_stiffness: FloatProperty\([^)]*default=_SETUP\[\"seam_stiffness\"\]\)", props), \
         "the add-on's property default is the module's"
+
+
+def test_an_anisotropic_piece_fabric_reaches_the_setup_and_comes_back():
+    """A piece's anisotropic fabric (the add-on's Anisotropic and its three directions) is the
+    setup's entry with `stretch_v`, `bend_bias`, `bend_v`; an isotropic one writes the four
+    values alone; both read back as they were written."""
+    aniso = core_sim.PieceFabric(0.3, 400.0, 60.0, 2e-5, 2000.0, 2.5e-5, 3e-5)
+    iso = core_sim.PieceFabric(0.15, 600.0, 60.0, 2e-5)
+    assert iso.entry() == {"density": 0.15, "stretch": 600.0, "shear": 60.0, "bend": 2e-5}
+    assert aniso.entry()["stretch_v"] == 2000.0 and aniso.entry()["bend_v"] == 3e-5
+    back = core_sim.setup_fabrics({"fabrics": [aniso.entry(), iso.entry()]}, 2)
+    assert back == [aniso, iso]
+    g = core_sim.garment_of(two_pieces().tailor_garment(), "g", core_sim.SimSettings(), [aniso, iso], [{}, {}])
+    assert g.setup["fabrics"][0]["stretch_v"] == 2000.0 and "stretch_v" not in g.setup["fabrics"][1]
+    assert core_sim.setup_fabrics(g.setup, 2) == [aniso, iso]

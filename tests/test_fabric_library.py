@@ -21,11 +21,15 @@ def test_the_library_lists_measured_fabrics_with_their_solver_fabric():
     for f in lib:
         fab = f["fabric"]
         assert fab.density == pytest.approx(f["density"], rel=1e-6)
-        assert fab.stretch == pytest.approx(np.sqrt(f["stretch_u"] * f["stretch_v"]), rel=1e-5)
+        # Anisotropic as measured: u along the pattern's x axis, v along its y axis.
+        assert fab.stretch == pytest.approx(f["stretch_u"], rel=1e-5)
+        assert fab.stretch_v == pytest.approx(f["stretch_v"], rel=1e-5)
         assert fab.shear == pytest.approx(f["shear"], rel=1e-5)
         rig = (f["rigidity_u"] * f["rigidity_bias"] * f["rigidity_v"]) ** (1 / 3)
         assert f["rigidity"] == pytest.approx(rig, rel=1e-9)
-        assert fab.bend == pytest.approx(rig / tailor.HINGE_ENERGY_PER_RIGIDITY, rel=1e-5)
+        k = tailor.HINGE_ENERGY_PER_RIGIDITY
+        assert (fab.bend, fab.bend_bias, fab.bend_v) == pytest.approx(
+            (f["rigidity_u"] / k, f["rigidity_bias"] / k, f["rigidity_v"] / k), rel=1e-5)
         assert repr(tailor.Fabric.named(f["name"])) == repr(fab)
     denim = next(f for f in lib if f["name"] == "11oz-black-denim")
     assert denim["rigidity_v"] == pytest.approx(96.951576e-6 / 4)  # the source's ke over 4 (below)
@@ -104,3 +108,38 @@ def test_the_sources_bending_model_gives_a_quarter_of_the_continuum_energy():
         ratios.append(energy / (0.5 * area / radius**2))
     assert all(abs(r - 0.25) < 0.01 for r in ratios), ratios
     assert abs(ratios[1] - 0.25) <= abs(ratios[0] - 0.25), ratios  # nearer as the mesh refines
+
+
+def test_an_anisotropic_fabric_is_simulated_by_direction(tmp_path):
+    """`Fabric(stretch_v=...)`: a strip hanging along the pattern's y axis (v) stretches by the
+    stiffness along v; the same strip of the isotropic fabric of u's stiffness hangs longer. The
+    fabric's directions reach a garment's setup and its file; a bad value is refused by name."""
+    def hang(fabric):
+        w, l, nx, ny = 0.1, 0.5, 4, 20
+        xs, ys = np.meshgrid(np.linspace(0, w, nx + 1), np.linspace(0, l, ny + 1))
+        rest = np.stack([xs.ravel(), ys.ravel()], 1).astype(np.float32)
+        idx = lambda i, j: j * (nx + 1) + i  # noqa: E731
+        tris = [t for j in range(ny) for i in range(nx)
+                for t in ((idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)), (idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)))]
+        pos = np.stack([rest[:, 0], np.zeros(len(rest)), rest[:, 1] - l], 1).astype(np.float32)
+        sim = tailor.Simulation(pos, np.asarray(tris, np.uint32), rest, fabric=fabric,
+                                settings=tailor.Settings(iterations=100, air_damping=4.0))
+        sim.pin(np.arange(idx(0, ny), idx(nx, ny) + 1, dtype=np.uint32))
+        for _ in range(120):
+            sim.step(1 / 30)
+        return -float(np.asarray(sim.positions)[: nx + 1, 2].mean()) - l
+
+    soft = hang(tailor.Fabric(0.2, 20.0, 20.0, 1e-7))
+    aniso = hang(tailor.Fabric(0.2, 20.0, 20.0, 1e-7, stretch_v=80.0))
+    want = 0.2 * 9.81 * 0.5 ** 2 / 2
+    assert soft == pytest.approx(want / 20.0, rel=0.05) and aniso == pytest.approx(want / 80.0, rel=0.05)
+    f = tailor.Fabric(0.2, 20.0, 20.0, 1e-7, stretch_v=80.0, bend_v=2e-7)
+    assert "stretch_v=80" in repr(f) and f.bend_bias is None
+    g = tailor.Garment.from_pattern(str(SKIRT), edge=0.08)
+    g.setup = {**g.setup, "fabrics": [{"density": 0.2, "stretch": 20.0, "shear": 20.0, "bend": 1e-7,
+                                       "stretch_v": 80.0}] * len(g.pieces)}
+    path = tmp_path / "aniso.json"
+    g.save(str(path))
+    assert tailor.Garment.load(str(path)).setup["fabrics"][0]["stretch_v"] == 80.0
+    with pytest.raises(tailor.InvalidParameterError, match="stretch_v"):
+        hang(tailor.Fabric(0.2, 20.0, 20.0, 1e-7, stretch_v=-1.0))

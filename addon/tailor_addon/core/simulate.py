@@ -104,7 +104,7 @@ class SimSettings:
             raise tailor.InvalidParameterError(f"pin mode is '{self.pin_mode}': must be one of {', '.join(PIN_MODES)}")
         return {
             "name": name,
-            "fabrics": [{"density": f.density, "stretch": f.stretch, "shear": f.shear, "bend": f.bend} for f in fabrics],
+            "fabrics": [f.entry() for f in fabrics],
             "thickness": float(self.thickness),
             "friction": {"static": float(self.friction_static), "kinetic": float(self.friction_kinetic)},
             "self_collision": bool(self.self_collision),
@@ -142,6 +142,20 @@ class PieceFabric:
     stretch: float
     shear: float
     bend: float
+    # An anisotropic fabric's other directions (None: isotropic; `tailor.Fabric` says which).
+    stretch_v: float | None = None
+    bend_bias: float | None = None
+    bend_v: float | None = None
+
+    def entry(self) -> dict:
+        """The garment setup's entry for this fabric (the directions only where given)."""
+        e = {"density": self.density, "stretch": self.stretch, "shear": self.shear, "bend": self.bend}
+        e.update({k: float(getattr(self, k)) for k in ANISOTROPIC if getattr(self, k) is not None})
+        return e
+
+
+#: The fields that make a fabric anisotropic (`tailor.Fabric`'s optional directions).
+ANISOTROPIC = ("stretch_v", "bend_bias", "bend_v")
 
 
 def setup_fabrics(setup: dict, count: int) -> list[PieceFabric]:
@@ -154,7 +168,8 @@ def setup_fabrics(setup: dict, count: int) -> list[PieceFabric]:
     if not given:
         d = tailor.Fabric()
         return [PieceFabric(d.density, d.stretch, d.shear, d.bend) for _ in range(count)]
-    return [PieceFabric(float(f["density"]), float(f["stretch"]), float(f["shear"]), float(f["bend"])) for f in given]
+    return [PieceFabric(float(f["density"]), float(f["stretch"]), float(f["shear"]), float(f["bend"]),
+                        *(None if f.get(k) is None else float(f[k]) for k in ANISOTROPIC)) for f in given]
 
 
 @dataclass

@@ -15,7 +15,7 @@ from bpy.props import EnumProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 from .. import scene_data
-from ..core import AddonError
+from ..core import AddonError, fabric_presets
 from ..core.garment_import import ImportedGarment, ImportedPiece, read_garment_file
 from ..core.layout import PLACEMENT_ROTATION_MODE
 from ..paint.maps import write_collision_levels, write_group
@@ -50,8 +50,7 @@ def write_piece(coll, piece: ImportedPiece, path: str, index: int):
     obj.rotation_mode = PLACEMENT_ROTATION_MODE
     obj.location, obj.rotation_euler = piece.location, piece.rotation
     p = obj.tailor_piece
-    p.density, p.stretch, p.shear, p.bend = (piece.fabric.density, piece.fabric.stretch, piece.fabric.shear,
-                                             piece.fabric.bend)
+    fabric_presets.set_piece_fabric(p, fabric_presets.fabric_values(piece.fabric))
     b = piece.bend
     if b is not None:
         p.bend_angle = b.angle

@@ -22,8 +22,7 @@ def _apply_fabric(self, _context) -> None:
     key = self.as_pointer()
     _APPLYING.add(key)
     try:
-        for k, v in fabric_presets.values(self.fabric).items():
-            setattr(self, k, v)
+        fabric_presets.set_piece_fabric(self, fabric_presets.values(self.fabric))
     finally:
         _APPLYING.discard(key)
 
@@ -32,7 +31,7 @@ def _edited_fabric(self, _context) -> None:
     """A value typed by hand: the piece is Custom unless the values are still its fabric's."""
     if self.as_pointer() in _APPLYING:
         return
-    current = {k: getattr(self, k) for k in fabric_presets.FIELDS}
+    current = fabric_presets.piece_values(self)
     if self.fabric != fabric_presets.CUSTOM and not fabric_presets.matches(self.fabric, current):
         self.fabric = fabric_presets.CUSTOM
 
@@ -90,6 +89,26 @@ class TailorPieceSettings(bpy.types.PropertyGroup):
         name="Bend",
         description="Bending stiffness of the fabric's hinge model, N·m: a fabric of flexural rigidity B has B/3 "
                     "(the library's fabrics are converted so)",
+        min=0.0, default=_DEFAULT.bend, precision=7, update=_edited_fabric,
+    )
+    # An anisotropic fabric (`tailor.Fabric`): u is the pattern's x axis, v its y axis; off, the
+    # three values below are not used (the fabric is the same in every direction).
+    anisotropic: BoolProperty(
+        name="Anisotropic",
+        description="The fabric differs by direction: stretch along the pattern's y axis (v) and bending by a "
+                    "fold's direction (the library's measured fabrics are)",
+        default=False, update=_edited_fabric,
+    )
+    stretch_v: FloatProperty(
+        name="Stretch V", description="Stretch stiffness along the pattern's y axis (v), N/m; Stretch is along x (u)",
+        min=0.0, default=_DEFAULT.stretch, update=_edited_fabric,
+    )
+    bend_bias: FloatProperty(
+        name="Bend Bias", description="Bending stiffness of folds on the bias (45 degrees), N·m",
+        min=0.0, default=_DEFAULT.bend, precision=7, update=_edited_fabric,
+    )
+    bend_v: FloatProperty(
+        name="Bend V", description="Bending stiffness of folds whose edge runs along v, N·m; Bend is along u",
         min=0.0, default=_DEFAULT.bend, precision=7, update=_edited_fabric,
     )
     # The last bend applied (re-applied after a change of resolution; angle 0 = flat).

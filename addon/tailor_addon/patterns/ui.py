@@ -45,6 +45,10 @@ class TAILOR_PT_patterns(TailorPanel, bpy.types.Panel):
         col.prop(p, "stretch")
         col.prop(p, "shear")
         col.prop(p, "bend")
+        col.prop(p, "anisotropic")
+        if p.anisotropic:
+            for name in ("stretch_v", "bend_bias", "bend_v"):
+                col.prop(p, name)
 
 
 def menu_import(self, context):

@@ -52,10 +52,12 @@ def scene_gravity(scene) -> tuple[float, float, float]:
 
 
 def fabrics(objects) -> list[PieceFabric]:
-    return [
-        PieceFabric(o.tailor_piece.density, o.tailor_piece.stretch, o.tailor_piece.shear, o.tailor_piece.bend)
-        for o in objects
-    ]
+    out = []
+    for o in objects:
+        p = o.tailor_piece
+        directions = (p.stretch_v, p.bend_bias, p.bend_v) if p.anisotropic else (None, None, None)
+        out.append(PieceFabric(p.density, p.stretch, p.shear, p.bend, *directions))
+    return out
 
 
 def collider_objects(scene) -> list:

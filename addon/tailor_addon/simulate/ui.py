@@ -118,8 +118,11 @@ class TAILOR_PT_simulate_settings(TailorPanel, bpy.types.Panel):
             box.label(text=f"Fabric of {obj.name}", icon="MOD_CLOTH")
             p = obj.tailor_piece
             box.prop(p, "fabric", text="")
-            for name in ("density", "stretch", "shear", "bend"):
+            for name in ("density", "stretch", "shear", "bend", "anisotropic"):
                 box.prop(p, name)
+            if p.anisotropic:
+                for name in ("stretch_v", "bend_bias", "bend_v"):
+                    box.prop(p, name)
             maps = painted_maps(obj)
             box.label(text="Painted: " + (", ".join(sorted(maps)) if maps else "nothing (Paint panel)"))
 

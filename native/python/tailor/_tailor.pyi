@@ -36,18 +36,32 @@ class InternalError(TailorError, RuntimeError):
     """A bug in Tailor: a Rust panic caught at the boundary."""
 
 class Fabric:
+    """A piece's material. `u` is the pattern's x axis, `v` its y axis: `stretch` acts along u
+    (and v unless `stretch_v`), `bend` on hinges whose edge runs along u (and every hinge unless
+    `bend_bias`/`bend_v`, linear in the edge's angle between them)."""
+
     density: float
     stretch: float
     shear: float
     #: The quadratic hinge model's stiffness: a flexural rigidity of `HINGE_ENERGY_PER_RIGIDITY`
     #: x bend N·m.
     bend: float
+    #: Stretch stiffness along v, N/m (None: `stretch`).
+    stretch_v: float | None
+    #: Bending of hinges on the bias, 45 degrees (None: the mean of u's and v's).
+    bend_bias: float | None
+    #: Bending of hinges along v (None: `bend`).
+    bend_v: float | None
     def __init__(
         self,
         density: float | None = None,
         stretch: float | None = None,
         shear: float | None = None,
         bend: float | None = None,
+        *,
+        stretch_v: float | None = None,
+        bend_bias: float | None = None,
+        bend_v: float | None = None,
     ) -> None: ...
     @staticmethod
     def named(name: str) -> Fabric:
@@ -119,7 +133,8 @@ class Simulation:
     threads: int
     def set_threads(self, threads: int | None = None) -> None: ...
     def set_mass_scale(self, scale: ArrayLike) -> None: ...
-    def set_triangle_stiffness(self, stretch: ArrayLike, shear: ArrayLike) -> None: ...
+    def set_triangle_stiffness(self, stretch: ArrayLike, shear: ArrayLike, stretch_v: ArrayLike | None = None) -> None:
+        """Stretch (along u, and v unless `stretch_v`) and shear stiffness per triangle, N/m."""
     def set_triangle_bending(self, bend: ArrayLike) -> None: ...
     def set_bending_rest_pose(self, pose: ArrayLike | None = None) -> None: ...
     def add_seam(

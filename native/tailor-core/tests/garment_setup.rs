@@ -9,7 +9,7 @@ use tailor_core::garment_file::setup::{maps, ColliderLevels, PinMode};
 use tailor_core::garment_file::*;
 use tailor_core::pattern::Placement;
 use tailor_core::seam::{path_between, Direction, Seam, SeamMode};
-use tailor_core::solver::{Fabric, SolverSettings};
+use tailor_core::solver::{bend_at_angle, Fabric, SolverSettings};
 use tailor_core::triangulate::{triangulate_piece, TriangulateOptions};
 
 /// Two rectangles 10 cm apart, sewn along one side.
@@ -86,7 +86,7 @@ fn a_version_1_files_setup_is_read_from_its_settings() {
     let back = load(&path).unwrap();
     let s = &back.setup;
     assert_eq!((s.name.as_str(), s.thickness, s.self_collision), ("skirt", 0.005, true));
-    assert_eq!(s.fabrics[1], Fabric { density: 0.1, stretch: 900.0, shear: 50.0, bend: 1e-5 });
+    assert_eq!(s.fabrics[1], Fabric::isotropic(0.1, 900.0, 50.0, 1e-5));
     // No friction recorded: self-collision's own default, as version 1 simulated it.
     assert_eq!((s.friction.static_friction, s.friction.kinetic_friction), (0.3, 0.2));
     assert_eq!((s.pin_mode, s.pin_stiffness), (PinMode::Attach, 100.0));
@@ -214,4 +214,65 @@ fn pin_weights_group_by_rounded_weight_hard_first() {
     let w = [0.0, 1.0, 0.02, 0.03, 0.999, 0.5, 0.52, 1.5, -1.0];
     let groups = pin_weights(&w);
     assert_eq!(groups, vec![(1.0, vec![1, 4, 7]), (0.05, vec![3]), (0.5, vec![5, 6])]);
+}
+
+/// A piece of an anisotropic fabric (a library name in the file, or its values): the file keeps
+/// its directions, the built simulation gives that piece's triangles their stretch along `v` and
+/// its hinges their bending by direction (the painted bend scale on all three), and the
+/// isotropic piece beside it is built as before, bit for bit.
+#[test]
+fn an_anisotropic_piece_is_stored_and_simulated_by_direction() {
+    let denim = tailor_core::fabrics::named("11oz-black-denim").unwrap().fabric();
+    let mut g = garment();
+    let (n0, n1) = (vertices(&g, 0), vertices(&g, 1));
+    g.setup.fabrics = vec![Fabric::default(), denim];
+    g.particle_params.push(ParticleParam {
+        name: maps::BEND_SCALE.into(),
+        piece: 1,
+        values: ParticleValues::F32(vec![2.0; n1]),
+    });
+    let path = temp("anisotropic");
+    save(&g, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"stretch_v\"") && text.contains("\"bend_bias\""), "{text}");
+    assert!(text.matches("\"stretch_v\"").count() == 1, "the isotropic piece writes no direction");
+    let back = load(&path).unwrap();
+    assert_eq!(back, g);
+    // By name in a file: the library's anisotropic fabric.
+    let mut head: serde_json::Value = serde_json::from_str(&text).unwrap();
+    head["setup"]["fabrics"][1] = "11oz-black-denim".into();
+    std::fs::write(&path, serde_json::to_string(&head).unwrap()).unwrap();
+    assert_eq!(load(&path).unwrap().setup.fabrics[1], denim);
+    std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+
+    let (sim, _, _) = build_configured(&g, None, SolverSettings::default(), &BuildOptions::default(), true).unwrap();
+    let t = &sim.model().triangles;
+    let m0 = t.verts.iter().filter(|v| (v[0] as usize) < n0).count();
+    assert!(t.w_stretch[..m0].iter().zip(&t.w_stretch_v[..m0]).all(|(u, v)| u == v));
+    let ratio = denim.stretch_v.unwrap() / denim.stretch;
+    assert!(t.w_stretch[m0..].iter().zip(&t.w_stretch_v[m0..]).all(|(u, v)| (v / u - ratio).abs() < 1e-4 * ratio));
+    // The same garment of one isotropic fabric: piece 0's hinges are bit for bit its hinges.
+    let mut iso = g.clone();
+    iso.setup.fabrics = vec![Fabric::default(), Fabric::default()];
+    iso.particle_params.clear();
+    let (plain, _, _) =
+        build_configured(&iso, None, SolverSettings::default(), &BuildOptions::default(), true).unwrap();
+    let hinges = &sim.model().mesh.topology().hinges;
+    let (w, w_iso) = (&sim.model().bending.weights, &plain.model().bending.weights);
+    let piece0 = |h: usize| (hinges[h].vertices[0] as usize) < n0;
+    assert!((0..hinges.len()).filter(|&h| piece0(h)).all(|h| w[h] == w_iso[h]));
+    // Piece 1's hinges: the denim's bending at each hinge's direction in the pattern, doubled
+    // by the bend scale.
+    let rest = sim.model().mesh.rest();
+    let mut spread = (f32::MAX, 0.0f32);
+    for h in (0..hinges.len()).filter(|&h| !piece0(h)) {
+        let [a, b, _, _] = hinges[h].vertices;
+        let (p, q) = (rest[a as usize], rest[b as usize]);
+        let angle = ((q[1] - p[1]) as f64).atan2((q[0] - p[0]) as f64);
+        let want = 2.0 * bend_at_angle(denim.bend_directions(), angle) as f32;
+        let got = w[h] / w_iso[h] * Fabric::default().bend;
+        assert!((got - want).abs() < 1e-4 * want, "hinge {h} at {angle} rad: {got} against {want}");
+        spread = (spread.0.min(got), spread.1.max(got));
+    }
+    assert!(spread.1 > 1.2 * spread.0, "the hinges' bending does not vary with direction: {spread:?}");
 }

@@ -77,11 +77,14 @@ fn strip_with(method: Method) -> Simulation {
 }
 
 fn strip_full(method: Method, bend: f32) -> Simulation {
+    strip_of(method, Fabric::isotropic(0.2, 40.0, 40.0, bend))
+}
+
+fn strip_of(method: Method, fabric: Fabric) -> Simulation {
     let (w, l, nx, ny) = (0.2f32, 1.0f32, 8usize, 40usize);
     let (rest, tris) = rectangle(w, l, nx, ny);
     let pos: Vec<[f32; 3]> = rest.iter().map(|r| [r[0], 0.0, r[1] - l]).collect();
     let mesh = ClothMesh::new(pos, rest, tris).unwrap();
-    let fabric = Fabric { density: 0.2, stretch: 40.0, shear: 40.0, bend };
     let settings = SolverSettings { air_damping: 4.0, iterations: 30, method, ..Default::default() };
     let mut sim = Simulation::new(mesh, fabric, settings).unwrap();
     let top: Vec<u32> = (0..=nx).map(|i| (ny * (nx + 1) + i) as u32).collect();
@@ -176,6 +179,34 @@ fn hanging_strip_matches_the_cpu() {
     let dv = (0..vc.len()).map(|i| (vc.get(i) - vg.get(i)).length()).fold(0.0f32, f32::max);
     println!("strip: max |Δv| {dv:.3e} m/s");
     assert!(dv < 30.0 * TOLERANCE_CHEBYSHEV, "velocities differ by {dv} m/s");
+}
+
+/// An anisotropic fabric (stretch four times stiffer along the pattern's `v`, bending by the
+/// hinge's direction) runs on the GPU as on the CPU: the triangles' stretch weight along `v`
+/// reaches the shader (a shader that used `u`'s weight for both columns drifts centimetres:
+/// the strip hangs along `v`).
+#[test]
+fn an_anisotropic_fabric_matches_the_cpu() {
+    let fabric = Fabric {
+        stretch_v: Some(160.0),
+        bend_bias: Some(2e-6),
+        bend_v: Some(5e-6),
+        ..Fabric::isotropic(0.2, 40.0, 40.0, 1e-6)
+    };
+    let make = || strip_of(Method::Chebyshev, fabric);
+    let Some(mut g) = gpu(make(), "an_anisotropic_fabric_matches_the_cpu") else { return };
+    let bound = rounding_bound(&g, &make, 30, TOLERANCE_CHEBYSHEV);
+    let mut cpu = make();
+    let worst = agree(&mut cpu, &mut g, 30);
+    // The isotropic strip of `u`'s stiffness hangs visibly lower: the comparison sees `v`.
+    let mut iso = strip_of(Method::Chebyshev, Fabric::isotropic(0.2, 40.0, 40.0, 1e-6));
+    for _ in 0..30 {
+        iso.step(1.0 / 30.0).unwrap();
+    }
+    let apart = max_diff(&cpu, &iso);
+    println!("anisotropic strip: worst max |Δx| over 30 frames {worst:.3e} m (bound {bound:.3e}); {apart:.3e} m from the isotropic");
+    assert!(worst < bound, "GPU and CPU differ by {worst} m");
+    assert!(apart > 5.0 * bound, "the anisotropic strip hangs as the isotropic one ({apart} m apart)");
 }
 
 #[test]

@@ -10,7 +10,7 @@ fn stretched_strip() -> Simulation {
     let (rest, tris) = tailor_core::scenes::rectangle(w, l, nx, ny);
     let pos: Vec<[f32; 3]> = rest.iter().map(|r| [r[0], 0.0, 1.1 * (r[1] - l)]).collect();
     let mesh = tailor_core::mesh::ClothMesh::new(pos, rest, tris).unwrap();
-    let fabric = Fabric { density: 0.2, stretch: 200.0, shear: 50.0, bend: 1e-6 };
+    let fabric = Fabric::isotropic(0.2, 200.0, 50.0, 1e-6);
     let mut sim = Simulation::new(mesh, fabric, SolverSettings::default()).unwrap();
     let top: Vec<u32> = (0..=nx).map(|i| (ny * (nx + 1) + i) as u32).collect();
     sim.pin(&top, None).unwrap();

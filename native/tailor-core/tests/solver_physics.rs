@@ -13,7 +13,7 @@ fn hang_strip(method: Method, iterations: u32) -> (f32, f32, f32) {
     let pos: Vec<[f32; 3]> = rest.iter().map(|r| [r[0], 0.0, r[1] - l]).collect();
     let mesh = ClothMesh::new(pos, rest, tris).unwrap();
     let (rho, k) = (0.2f32, 40.0f32);
-    let fabric = Fabric { density: rho, stretch: k, shear: k, bend: 1e-7 };
+    let fabric = Fabric::isotropic(rho, k, k, 1e-7);
     let settings = SolverSettings { air_damping: 4.0, iterations, method, ..Default::default() };
     let mut sim = Simulation::new(mesh, fabric, settings).unwrap();
     let top: Vec<u32> = (0..=nx).map(|i| (ny * (nx + 1) + i) as u32).collect();
@@ -93,7 +93,7 @@ fn bending_keeps_a_creased_fold() {
         let mesh = ClothMesh::new(pos.clone(), rest, tris).unwrap();
         // Stiff bending for the load: with few iterations Projective Dynamics under-resolves
         // bending against stiff stretch, so a soft crease would droop (see docs/solver.md).
-        let fabric = Fabric { density: 0.1, stretch: 2000.0, shear: 500.0, bend: 5e-2 };
+        let fabric = Fabric::isotropic(0.1, 2000.0, 500.0, 5e-2);
         let settings = SolverSettings { air_damping: 2.0, iterations: 40, ..Default::default() };
         let mut sim = Simulation::new(mesh, fabric, settings).unwrap();
         if creased {
@@ -231,7 +231,7 @@ fn cantilever(fabric_bend: f32, per_triangle: Option<f32>) -> Vec<[f32; 3]> {
     let (rest, tris) = rectangle(0.1, 0.05, 10, 5);
     let m = tris.len();
     let mesh = ClothMesh::new(rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest.clone(), tris).unwrap();
-    let fabric = Fabric { density: 0.2, stretch: 500.0, shear: 50.0, bend: fabric_bend };
+    let fabric = Fabric::isotropic(0.2, 500.0, 50.0, fabric_bend);
     let mut sim = Simulation::new(mesh, fabric, SolverSettings::default()).unwrap();
     if let Some(b) = per_triangle {
         sim.set_triangle_bending(&vec![b; m]).unwrap();
@@ -284,7 +284,7 @@ fn cantilever_bending_length_ratio(two_level: bool) -> f32 {
     let (rest, tris) = rectangle(clamp + overhang, width, nx, ny);
     let rest: Vec<[f32; 2]> = rest.iter().map(|r| [r[0] - clamp, r[1]]).collect();
     let mesh = ClothMesh::new(rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest.clone(), tris).unwrap();
-    let fabric = Fabric { density, stretch: 600.0, shear: 60.0, bend };
+    let fabric = Fabric::isotropic(density, 600.0, 60.0, bend);
     let settings = SolverSettings { air_damping: 2.0, two_level, ..SolverSettings::preset("final").unwrap() };
     let mut sim = Simulation::new(mesh, fabric, settings).unwrap();
     let held: Vec<u32> = (0..rest.len() as u32).filter(|&i| rest[i as usize][0] <= 1e-6).collect();

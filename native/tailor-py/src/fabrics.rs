@@ -10,7 +10,15 @@ use crate::settings::Fabric;
 
 impl From<tailor_core::solver::Fabric> for Fabric {
     fn from(f: tailor_core::solver::Fabric) -> Self {
-        Fabric { density: f.density, stretch: f.stretch, shear: f.shear, bend: f.bend }
+        Fabric {
+            density: f.density,
+            stretch: f.stretch,
+            shear: f.shear,
+            bend: f.bend,
+            stretch_v: f.stretch_v,
+            bend_bias: f.bend_bias,
+            bend_v: f.bend_v,
+        }
     }
 }
 
@@ -40,7 +48,8 @@ fn entry<'py>(py: Python<'py>, m: &MeasuredFabric) -> PyResult<Bound<'py, PyDict
 /// Every fabric of the library, lightest first: `name`, `description`, `density` (kg/m²),
 /// `stretch_u`, `stretch_v` and `shear` at 5 % strain (N/m), the flexural rigidities
 /// `rigidity_u`, `rigidity_bias`, `rigidity_v` and their geometric mean `rigidity` (N·m), and
-/// `fabric`, the solver's isotropic `Fabric` for it. Source and rules: `tailor_core::fabrics`
+/// `fabric`, the solver's `Fabric` for it (anisotropic as measured: `stretch` along u,
+/// `stretch_v`, and bending by the hinge's direction). Source and rules: `tailor_core::fabrics`
 /// (docs/python-api.md, "Fabric library").
 #[pyfunction]
 pub fn fabric_library(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {

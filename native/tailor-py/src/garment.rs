@@ -305,7 +305,8 @@ impl Garment {
     }
 
     /// The garment's setup as a dict (the garment file's `setup`): `name`, `fabrics` (one
-    /// `{"density", "stretch", "shear", "bend"}` per piece, or empty for the default fabric),
+    /// `{"density", "stretch", "shear", "bend"}` per piece, with `stretch_v`, `bend_bias` and
+    /// `bend_v` where the fabric is anisotropic, or empty for the default fabric),
     /// `thickness`, `friction` (`{"static", "kinetic"}`: the cloth's, against itself and, where
     /// painted, against colliders), `self_collision`, `self_collision_radius` (0: automatic),
     /// `pin_mode` ("attach": ride on the collider once the seams have met; "fixed": held in

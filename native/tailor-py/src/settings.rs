@@ -7,26 +7,44 @@ use tailor_core::TailorError;
 
 use crate::errors::to_py;
 
-/// Material of a garment piece (SI units).
+/// Material of a garment piece (SI units). `u` is the pattern's x axis, `v` its y axis;
+/// `stretch_v`, `bend_bias` and `bend_v` make it anisotropic (None: isotropic; the core's
+/// `Fabric` documents the directions).
 #[pyclass(module = "tailor", get_all, set_all, from_py_object)]
 #[derive(Clone)]
 pub struct Fabric {
     /// Area density, kg/m².
     pub density: f32,
-    /// Stretch stiffness along warp and weft, N/m.
+    /// Stretch stiffness along u (and v unless `stretch_v`), N/m.
     pub stretch: f32,
     /// Shear stiffness, N/m.
     pub shear: f32,
-    /// Bending stiffness of the quadratic hinge model: a flexural rigidity of 3 × bend N·m
-    /// (`HINGE_ENERGY_PER_RIGIDITY`; the fabric library's fabrics convert so).
+    /// Bending stiffness of the quadratic hinge model (hinges along u, and all unless
+    /// `bend_bias`/`bend_v`): a flexural rigidity of 3 × bend N·m (`HINGE_ENERGY_PER_RIGIDITY`;
+    /// the fabric library's fabrics convert so).
     pub bend: f32,
+    /// Stretch stiffness along v, N/m (None: `stretch`).
+    pub stretch_v: Option<f32>,
+    /// Bending stiffness of hinges on the bias (None: the mean of u's and v's).
+    pub bend_bias: Option<f32>,
+    /// Bending stiffness of hinges along v (None: `bend`).
+    pub bend_v: Option<f32>,
 }
 
 #[pymethods]
 impl Fabric {
     #[new]
-    #[pyo3(signature = (density=None, stretch=None, shear=None, bend=None))]
-    fn new(density: Option<f32>, stretch: Option<f32>, shear: Option<f32>, bend: Option<f32>) -> PyResult<Self> {
+    #[pyo3(signature = (density=None, stretch=None, shear=None, bend=None, *, stretch_v=None, bend_bias=None, bend_v=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        density: Option<f32>,
+        stretch: Option<f32>,
+        shear: Option<f32>,
+        bend: Option<f32>,
+        stretch_v: Option<f32>,
+        bend_bias: Option<f32>,
+        bend_v: Option<f32>,
+    ) -> PyResult<Self> {
         crate::errors::guard(|| {
             Ok({
                 let d = core::Fabric::default();
@@ -35,6 +53,9 @@ impl Fabric {
                     stretch: stretch.unwrap_or(d.stretch),
                     shear: shear.unwrap_or(d.shear),
                     bend: bend.unwrap_or(d.bend),
+                    stretch_v,
+                    bend_bias,
+                    bend_v,
                 }
             })
         })
@@ -50,10 +71,17 @@ impl Fabric {
     fn __repr__(&self) -> PyResult<String> {
         crate::errors::guard(|| {
             Ok({
-                format!(
-                    "Fabric(density={}, stretch={}, shear={}, bend={})",
+                let mut s = format!(
+                    "Fabric(density={}, stretch={}, shear={}, bend={}",
                     self.density, self.stretch, self.shear, self.bend
-                )
+                );
+                for (name, v) in [("stretch_v", self.stretch_v), ("bend_bias", self.bend_bias), ("bend_v", self.bend_v)]
+                {
+                    if let Some(v) = v {
+                        s += &format!(", {name}={v}");
+                    }
+                }
+                s + ")"
             })
         })
     }
@@ -61,7 +89,15 @@ impl Fabric {
 
 impl From<&Fabric> for core::Fabric {
     fn from(f: &Fabric) -> Self {
-        core::Fabric { density: f.density, stretch: f.stretch, shear: f.shear, bend: f.bend }
+        core::Fabric {
+            density: f.density,
+            stretch: f.stretch,
+            shear: f.shear,
+            bend: f.bend,
+            stretch_v: f.stretch_v,
+            bend_bias: f.bend_bias,
+            bend_v: f.bend_v,
+        }
     }
 }
 

@@ -361,10 +361,22 @@ impl Simulation {
         })
     }
 
-    fn set_triangle_stiffness(&mut self, stretch: &Bound<'_, PyAny>, shear: &Bound<'_, PyAny>) -> PyResult<()> {
+    /// Stretch and shear stiffness (N/m) per triangle; `stretch` along u (the pattern's x axis)
+    /// and, unless `stretch_v` is given, along v too.
+    #[pyo3(signature = (stretch, shear, stretch_v=None))]
+    fn set_triangle_stiffness(
+        &mut self,
+        stretch: &Bound<'_, PyAny>,
+        shear: &Bound<'_, PyAny>,
+        stretch_v: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
         crate::errors::guard(|| {
             let (stretch, shear) = (floats(stretch, "stretch")?, floats(shear, "shear")?);
-            self.solver_mut()?.edit(|sim| sim.set_triangle_stiffness(&stretch, &shear)).map_err(to_py)
+            let stretch_v = match stretch_v {
+                Some(v) => floats(v, "stretch_v")?,
+                None => stretch.clone(),
+            };
+            self.solver_mut()?.edit(|sim| sim.set_triangle_stiffness_uv(&stretch, &stretch_v, &shear)).map_err(to_py)
         })
     }
 

@@ -35,13 +35,15 @@
 //!
 //! # Into the solver
 //!
-//! The solver's fabric is isotropic ([`Fabric`]): `stretch` is the geometric mean of the two
-//! directions, `shear` as measured, and `bend` the hinge parameter that gives the geometric
-//! mean of the three rigidities. The quadratic hinge model's energy (`constraints/bending.rs`,
-//! `3k/(A₀+A₁)·½‖ΣKᵢxᵢ‖²`) is **3 times** the continuum `½·B·κ²·A` of `B = k` (measured the same
-//! way, [`tests::the_hinge_energy_is_three_times_the_continuum_one`]), so a rigidity `B` enters
-//! as `bend = B / 3` ([`HINGE_ENERGY_PER_RIGIDITY`]). Anisotropy (up to 5:1 between `u` and `v`
-//! for the denim) is kept here but not yet simulated.
+//! The solver's fabric keeps the source's directions ([`Fabric`], `u` along the pattern's x
+//! axis): `stretch` along `u`, `stretch_v` along `v`, `shear` as measured, and the bending of
+//! hinges whose edge runs along `u`, on the bias and along `v` (`bend`, `bend_bias`, `bend_v`,
+//! as ARCSim indexes its bending rows by the edge's direction). The quadratic hinge model's
+//! energy (`constraints/bending.rs`, `3k/(A₀+A₁)·½‖ΣKᵢxᵢ‖²`) is **3 times** the continuum
+//! `½·B·κ²·A` of `B = k` (measured the same way,
+//! [`tests::the_hinge_energy_is_three_times_the_continuum_one`]), so a rigidity `B` enters as
+//! `bend = B / 3` ([`HINGE_ENERGY_PER_RIGIDITY`]). [`MeasuredFabric::isotropic_fabric`] gives
+//! the geometric means in every direction (the library's solver fabric before anisotropy).
 //!
 //! What the library does not hold: silk, chiffon and leather (no measured source in the
 //! repository yet); the sources' nonlinear stiffening beyond 5 % strain and with curvature.
@@ -117,15 +119,30 @@ impl MeasuredFabric {
         (u * b * v).cbrt()
     }
 
-    /// The solver's isotropic fabric for this measured one (see the module: geometric means,
-    /// and the hinge model's factor).
+    /// The solver's fabric for this measured one, anisotropic as measured (see the module: the
+    /// source's `u` and `v`, and the hinge model's factor).
     pub fn fabric(&self) -> Fabric {
+        let [u, b, v] = self.rigidities().map(|r| (r / HINGE_ENERGY_PER_RIGIDITY) as f32);
         Fabric {
             density: self.density as f32,
-            stretch: (self.stretch_u() * self.stretch_v()).sqrt() as f32,
+            stretch: self.stretch_u() as f32,
             shear: self.shear() as f32,
-            bend: (self.rigidity() / HINGE_ENERGY_PER_RIGIDITY) as f32,
+            bend: u,
+            stretch_v: Some(self.stretch_v() as f32),
+            bend_bias: Some(b),
+            bend_v: Some(v),
         }
+    }
+
+    /// The isotropic fabric of the geometric means: `stretch` of the two directions, `bend` of
+    /// the three rigidities (for comparisons with the anisotropic [`fabric`](Self::fabric)).
+    pub fn isotropic_fabric(&self) -> Fabric {
+        Fabric::isotropic(
+            self.density as f32,
+            (self.stretch_u() * self.stretch_v()).sqrt() as f32,
+            self.shear() as f32,
+            (self.rigidity() / HINGE_ENERGY_PER_RIGIDITY) as f32,
+        )
     }
 }
 

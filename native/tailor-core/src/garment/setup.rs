@@ -242,15 +242,29 @@ pub fn apply_fabric(
     let per_tri = |value: fn(&Fabric) -> f32| -> Vec<f32> {
         fabrics.iter().zip(&layout.triangles).flat_map(|(f, &n)| std::iter::repeat_n(value(f), n)).collect()
     };
-    sim.set_triangle_stiffness(&per_tri(|f| f.stretch), &per_tri(|f| f.shear))?;
+    sim.set_triangle_stiffness_uv(
+        &per_tri(|f| f.stretch_uv()[0]),
+        &per_tri(|f| f.stretch_uv()[1]),
+        &per_tri(|f| f.shear),
+    )?;
     let (bend_scale, _) = painted(garment, layout, maps::BEND_SCALE, 1.0, warnings)?;
     let tris = sim.model().mesh.triangles().to_vec();
-    let bend: Vec<f32> = per_tri(|f| f.bend)
-        .into_iter()
-        .zip(&tris)
-        .map(|(b, t)| b * ((bend_scale[t[0] as usize] + bend_scale[t[1] as usize] + bend_scale[t[2] as usize]) / 3.0))
-        .collect();
-    sim.set_triangle_bending(&bend)?;
+    let scale =
+        |t: &[u32; 3]| (bend_scale[t[0] as usize] + bend_scale[t[1] as usize] + bend_scale[t[2] as usize]) / 3.0;
+    if fabrics.iter().all(Fabric::is_isotropic) {
+        let bend: Vec<f32> = per_tri(|f| f.bend).into_iter().zip(&tris).map(|(b, t)| b * scale(t)).collect();
+        sim.set_triangle_bending(&bend)?;
+    } else {
+        // Each triangle's three directions, scaled alike by the painted map.
+        let bend: Vec<[f32; 3]> = fabrics
+            .iter()
+            .zip(&layout.triangles)
+            .flat_map(|(f, &n)| std::iter::repeat_n(f.bend_directions(), n))
+            .zip(&tris)
+            .map(|(b, t)| b.map(|b| b * scale(t)))
+            .collect();
+        sim.set_triangle_bending_directional(&bend)?;
+    }
     let (mass, _) = painted(garment, layout, maps::MASS_SCALE, 1.0, warnings)?;
     let scale: Vec<f32> = fabrics
         .iter()

@@ -1,6 +1,8 @@
 // Local step for triangles (exact port of `constraints/triangle.rs::rhs_contributions`):
-// stretch projects each column of F to unit length, shear projects (c1, c2) onto the closest
-// orthogonal pair; each triangle writes w·Aᵀp into its own three slots 3t..3t+3.
+// stretch projects each column of F to unit length (weighted along u and v: anisotropic
+// fabrics), shear projects (c1, c2) onto the closest orthogonal pair; each triangle writes
+// w·Aᵀp into its own three slots 3t..3t+3. Its data: g (6), stretch along u, shear, stretch
+// along v.
 
 @group(0) @binding(2) var<storage, read> idx: array<u32>;
 @group(0) @binding(3) var<storage, read> fdata: array<f32>;
@@ -29,7 +31,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let x0 = x[idx[vb]].xyz;
     let x1 = x[idx[vb + 1u]].xyz;
     let x2 = x[idx[vb + 2u]].xyz;
-    let fb = params.tri_data + 8u * t;
+    let fb = params.tri_data + 9u * t;
     let g00 = fdata[fb];
     let g01 = fdata[fb + 1u];
     let g10 = fdata[fb + 2u];
@@ -38,6 +40,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let g21 = fdata[fb + 5u];
     let ws = fdata[fb + 6u];
     let wsh = fdata[fb + 7u];
+    let wsv = fdata[fb + 8u];
     // Columns of F.
     let c0 = x0 * g00 + x1 * g10 + x2 * g20;
     let c1 = x0 * g01 + x1 * g11 + x2 * g21;
@@ -60,7 +63,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         ph1 = (c1 - c0 * lambda) * inv;
     }
     let q0 = ps0 * ws + ph0 * wsh;
-    let q1 = ps1 * ws + ph1 * wsh;
+    let q1 = ps1 * wsv + ph1 * wsh;
     let sb = 3u * t;
     slots[sb] = vec4<f32>(q0 * g00 + q1 * g01, 0.0);
     slots[sb + 1u] = vec4<f32>(q0 * g10 + q1 * g11, 0.0);

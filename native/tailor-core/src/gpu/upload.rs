@@ -239,6 +239,7 @@ impl GpuSolver {
             td.extend_from_slice(&[g[0][0], g[0][1], g[1][0], g[1][1], g[2][0], g[2][1]]);
             td.push(m.triangles.w_stretch[t]);
             td.push(m.triangles.w_shear[t]);
+            td.push(m.triangles.w_stretch_v[t]);
         }
         p.tri_data = fbase(&mut fdata, &td);
         p.seam_coefs = fbase(&mut fdata, &sp.coefs);

@@ -37,7 +37,9 @@ pub use collide::{
     ColliderId, CollisionSkips, ImplicitCollider, MeshColliderOptions, SelfCollisionSettings, SelfContacts, Shape,
 };
 pub use model::constraints::{Attachment, ColliderAttachment, Seam, SeamPoint};
-pub use model::settings::{ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings, DEFAULT_THICKNESS, PRESETS};
+pub use model::settings::{
+    bend_at_angle, ChebyshevSettings, Fabric, Method, SeamRamp, SolverSettings, DEFAULT_THICKNESS, PRESETS,
+};
 pub use model::soa::Vec3Soa;
 pub use simulation::view::SolverView;
 pub use simulation::Simulation;

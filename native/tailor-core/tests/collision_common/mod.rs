@@ -19,7 +19,7 @@ pub fn cloth_grid(w: f32, n: usize, cx: f32, cy: f32, z: f32) -> Grid {
 
 pub fn sim_of(pos: Vec<[f32; 3]>, rest: Vec<[f32; 2]>, tris: Vec<[u32; 3]>, settings: SolverSettings) -> Simulation {
     let mesh = ClothMesh::new(pos, rest, tris).unwrap();
-    let fabric = Fabric { density: 0.2, stretch: 60.0, shear: 60.0, bend: 1e-6 };
+    let fabric = Fabric::isotropic(0.2, 60.0, 60.0, 1e-6);
     Simulation::new(mesh, fabric, settings).unwrap()
 }
 

@@ -35,7 +35,7 @@ impl Simulation {
         for k in 0..t.len() {
             let v = t.verts[k];
             let xs = [0, 1, 2].map(|j| x.get(v[j] as usize).into());
-            e += triangle::energy(&t.g[k], xs, t.w_stretch[k], t.w_shear[k]);
+            e += triangle::energy(&t.g[k], xs, [t.w_stretch[k], t.w_stretch_v[k]], t.w_shear[k]);
         }
         for set in [&m.bending, &m.seam_pairs, &m.seam_hinges] {
             e += (0..set.len()).map(|s| set.energy(s, x)).sum::<f64>();

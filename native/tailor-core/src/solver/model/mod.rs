@@ -28,7 +28,7 @@ use self::constraints::bending::{hinge_weights, HingeTriangle};
 use self::constraints::seam::BoundaryEdges;
 use self::constraints::triangle::strain_coefficients;
 use self::constraints::{Attachment, ColliderAttachment, Seam, StencilSet, TriangleSet};
-use self::settings::Fabric;
+use self::settings::{bend_at_angle, Fabric};
 use self::soa::{vec_bytes, Vec3Soa};
 use self::system::{SparseSym, SparseSym32};
 
@@ -179,15 +179,23 @@ impl Model {
             })?;
             triangles.verts.push(*tri);
             triangles.g.push(g);
-            triangles.w_stretch.push((fabric.stretch as f64 * area) as f32);
+            let [su, sv] = fabric.stretch_uv();
+            triangles.w_stretch.push((su as f64 * area) as f32);
+            triangles.w_stretch_v.push((sv as f64 * area) as f32);
             triangles.w_shear.push((fabric.shear as f64 * area) as f32);
             for &v in tri {
                 base_mass[v as usize] += fabric.density as f64 * area / 3.0;
             }
         }
         let mut bending = StencilSet::default();
+        let directions = fabric.bend_directions();
         for (terms, area, _) in hinge_stencils(&mesh) {
-            bending.push(&terms, bending_weight(fabric.bend as f64, area), 0.0);
+            let bend = if fabric.is_isotropic() {
+                fabric.bend as f64
+            } else {
+                bend_at_angle(directions, hinge_edge_angle(&mesh, &terms))
+            };
+            bending.push(&terms, bending_weight(bend, area), 0.0);
         }
         // Built by pushing: drop the growth slack (up to half the capacity) kept for the
         // lifetime of the simulation.
@@ -272,17 +280,27 @@ impl Model {
         Ok(())
     }
 
-    /// Per-triangle stretch and shear stiffness (N/m).
+    /// Per-triangle stretch and shear stiffness (N/m), the same along `u` and `v`.
     pub fn set_triangle_stiffness(&mut self, stretch: &[f32], shear: &[f32]) -> Result<()> {
+        self.set_triangle_stiffness_uv(stretch, stretch, shear)
+    }
+
+    /// Per-triangle stretch stiffness along `u` and along `v`, and shear stiffness (N/m).
+    pub fn set_triangle_stiffness_uv(&mut self, stretch: &[f32], stretch_v: &[f32], shear: &[f32]) -> Result<()> {
         let m = self.triangles.len();
-        if stretch.len() != m || shear.len() != m {
+        if stretch.len() != m || stretch_v.len() != m || shear.len() != m {
             return Err(TailorError::shape(
                 "triangle stiffness",
-                format!("{} stretch and {} shear values for {m} triangles", stretch.len(), shear.len()),
+                format!(
+                    "{} stretch, {} stretch_v and {} shear values for {m} triangles",
+                    stretch.len(),
+                    stretch_v.len(),
+                    shear.len()
+                ),
             ));
         }
         for t in 0..m {
-            for (name, k) in [("stretch", stretch[t]), ("shear", shear[t])] {
+            for (name, k) in [("stretch", stretch[t]), ("stretch_v", stretch_v[t]), ("shear", shear[t])] {
                 if !(k >= 0.0 && k.is_finite()) {
                     return Err(TailorError::shape(
                         "triangle stiffness",
@@ -293,6 +311,7 @@ impl Model {
             // In f64 as `new` computes them: the same stiffness gives the same weights.
             let area = self.mesh.rest_area(t);
             self.triangles.w_stretch[t] = (stretch[t] as f64 * area) as f32;
+            self.triangles.w_stretch_v[t] = (stretch_v[t] as f64 * area) as f32;
             self.triangles.w_shear[t] = (shear[t] as f64 * area) as f32;
         }
         self.dirty = true;
@@ -314,6 +333,38 @@ impl Model {
         let weights: Vec<f32> = hinge_stencils(&self.mesh)
             .map(|(_, area, [t0, t1])| {
                 bending_weight(0.5 * (bend[t0 as usize] as f64 + bend[t1 as usize] as f64), area)
+            })
+            .collect();
+        debug_assert_eq!(weights.len(), self.bending.len());
+        self.bending.weights.copy_from_slice(&weights);
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Per-triangle bending stiffness by direction (N·m, `[u, bias, v]` as
+    /// [`Fabric::bend_directions`]): each hinge takes the mean of its two triangles' values at
+    /// its edge's direction in the pattern ([`bend_at_angle`]). A triangle whose three values
+    /// are equal bends as [`set_triangle_bending`](Self::set_triangle_bending) gives it.
+    pub fn set_triangle_bending_directional(&mut self, bend: &[[f32; 3]]) -> Result<()> {
+        let m = self.triangles.len();
+        if bend.len() != m {
+            return Err(TailorError::shape("triangle bending", format!("{} values for {m} triangles", bend.len())));
+        }
+        if let Some((t, k)) = bend.iter().enumerate().find(|(_, k)| !k.iter().all(|k| *k >= 0.0 && k.is_finite())) {
+            return Err(TailorError::shape("triangle bending", format!("triangle {t}: bend {k:?} is invalid")));
+        }
+        let weights: Vec<f32> = hinge_stencils(&self.mesh)
+            .map(|(terms, area, [t0, t1])| {
+                let angle = hinge_edge_angle(&self.mesh, &terms);
+                let at = |t: u32| {
+                    let b = bend[t as usize];
+                    if b[0] == b[1] && b[1] == b[2] {
+                        b[0] as f64
+                    } else {
+                        bend_at_angle(b, angle)
+                    }
+                };
+                bending_weight(0.5 * (at(t0) + at(t1)), area)
             })
             .collect();
         debug_assert_eq!(weights.len(), self.bending.len());
@@ -501,6 +552,14 @@ pub(crate) fn hinge_stencils(mesh: &ClothMesh) -> impl Iterator<Item = ([(u32, f
 
 /// A hinge's stencil weight for bending stiffness `bend` (N·m) over rest area `area` (the
 /// quadratic bending energy's 3k/A).
+/// The direction of a hinge's edge in the pattern, radians from the x axis (`u`): its stencil's
+/// first two terms are the edge's ends ([`hinge_stencils`]).
+fn hinge_edge_angle(mesh: &ClothMesh, terms: &[(u32, f32); 4]) -> f64 {
+    let rest = mesh.rest();
+    let (a, b) = (rest[terms[0].0 as usize], rest[terms[1].0 as usize]);
+    ((b[1] - a[1]) as f64).atan2((b[0] - a[0]) as f64)
+}
+
 pub(crate) fn bending_weight(bend: f64, area: f64) -> f32 {
     (3.0 * bend / area) as f32
 }

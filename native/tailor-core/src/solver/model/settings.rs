@@ -22,38 +22,109 @@ pub enum Method {
 pub const DEFAULT_THICKNESS: f32 = 0.004;
 
 /// Per-material parameters, applied to every triangle/hinge unless overridden per element.
-/// Stored by name in a garment file's setup (every field required there).
+/// Stored by name in a garment file's setup (the four isotropic fields required there; the
+/// anisotropic ones only where the fabric has them).
+///
+/// **Directions.** A piece's fabric axes are its pattern's: `u` along the pattern's x axis, `v`
+/// along its y axis, the bias at 45° between them. An isotropic fabric (every `Option` `None`)
+/// behaves the same along all of them. An anisotropic one (woven and knit fabrics: the library's
+/// denim is 4.8 times stiffer along `v` than along `u`) gives `stretch_v`, and the bending of a
+/// hinge follows its edge's direction in the pattern (as ARCSim's measured model does: Wang et
+/// al. 2011): `bend` for an edge along `u`, `bend_bias` at 45°, `bend_v` along `v`, linear in the
+/// angle between them.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Fabric {
     /// Area density, kg/m² (cotton shirting is about 0.1-0.2).
     pub density: f32,
-    /// Stretch stiffness along the pattern's warp and weft axes, N/m.
+    /// Stretch stiffness along `u` (and along `v` unless `stretch_v` says otherwise), N/m.
     pub stretch: f32,
-    /// Shear stiffness (resistance to the warp and weft axes losing orthogonality), N/m.
+    /// Shear stiffness (resistance to the `u` and `v` axes losing orthogonality), N/m.
     pub shear: f32,
-    /// Bending stiffness of the quadratic hinge model, N·m: its energy is 3 times the continuum
-    /// `½·B·κ²` of a rigidity `B = bend`, so a fabric of flexural rigidity `B` has `bend = B/3`
-    /// ([`crate::fabrics::HINGE_ENERGY_PER_RIGIDITY`], measured there; the library converts).
+    /// Bending stiffness of the quadratic hinge model, N·m (of a hinge whose edge runs along `u`,
+    /// and of every hinge unless `bend_bias`/`bend_v` say otherwise): its energy is 3 times the
+    /// continuum `½·B·κ²` of a rigidity `B = bend`, so a fabric of flexural rigidity `B` has
+    /// `bend = B/3` ([`crate::fabrics::HINGE_ENERGY_PER_RIGIDITY`], measured there; the library
+    /// converts).
     pub bend: f32,
+    /// Stretch stiffness along `v`, N/m (`None`: as `stretch`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stretch_v: Option<f32>,
+    /// Bending stiffness of a hinge whose edge runs on the bias (45°), N·m (`None`: the mean of
+    /// `bend` and the `v` value).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bend_bias: Option<f32>,
+    /// Bending stiffness of a hinge whose edge runs along `v`, N·m (`None`: as `bend`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bend_v: Option<f32>,
 }
 
 impl Default for Fabric {
     fn default() -> Self {
-        Self { density: 0.15, stretch: 600.0, shear: 60.0, bend: 2e-5 }
+        Self { density: 0.15, stretch: 600.0, shear: 60.0, bend: 2e-5, stretch_v: None, bend_bias: None, bend_v: None }
     }
 }
 
 impl Fabric {
+    /// An isotropic fabric of these four values.
+    pub const fn isotropic(density: f32, stretch: f32, shear: f32, bend: f32) -> Self {
+        Self { density, stretch, shear, bend, stretch_v: None, bend_bias: None, bend_v: None }
+    }
+
     pub fn validate(&self) -> Result<()> {
         positive("fabric.density", self.density)?;
         non_negative("fabric.stretch", self.stretch)?;
         non_negative("fabric.shear", self.shear)?;
         non_negative("fabric.bend", self.bend)?;
-        if self.stretch + self.shear <= 0.0 {
-            return Err(TailorError::setting("fabric.stretch", self.stretch, "stretch + shear must be positive"));
+        for (name, v) in
+            [("fabric.stretch_v", self.stretch_v), ("fabric.bend_bias", self.bend_bias), ("fabric.bend_v", self.bend_v)]
+        {
+            if let Some(v) = v {
+                non_negative(name, v)?;
+            }
+        }
+        if self.stretch.min(self.stretch_uv()[1]) + self.shear <= 0.0 {
+            return Err(TailorError::setting(
+                "fabric.stretch",
+                self.stretch,
+                "stretch + shear must be positive along u and v",
+            ));
         }
         Ok(())
+    }
+
+    /// Whether the fabric is the same in every direction (no anisotropic value differs).
+    pub fn is_isotropic(&self) -> bool {
+        self.stretch_uv()[0] == self.stretch_uv()[1] && {
+            let [u, b, v] = self.bend_directions();
+            u == b && b == v
+        }
+    }
+
+    /// The stretch stiffness along `u` and along `v`, N/m.
+    pub fn stretch_uv(&self) -> [f32; 2] {
+        [self.stretch, self.stretch_v.unwrap_or(self.stretch)]
+    }
+
+    /// The bending stiffness of a hinge whose edge runs along `u`, on the bias and along `v`.
+    pub fn bend_directions(&self) -> [f32; 3] {
+        let v = self.bend_v.unwrap_or(self.bend);
+        [self.bend, self.bend_bias.unwrap_or(0.5 * (self.bend + v)), v]
+    }
+}
+
+/// The bending stiffness of a hinge whose edge runs at `angle` radians from the pattern's x axis
+/// (`u`), for the stiffnesses `[u, bias, v]`: linear in the angle folded into 0-90°, through the
+/// bias at 45° (ARCSim's interpolation of its measured bending rows).
+pub fn bend_at_angle(bend: [f32; 3], angle: f64) -> f64 {
+    let a = angle.rem_euclid(std::f64::consts::PI);
+    let folded = if a > std::f64::consts::FRAC_PI_2 { std::f64::consts::PI - a } else { a };
+    let t = folded / std::f64::consts::FRAC_PI_4; // 0 along u, 1 on the bias, 2 along v
+    let [u, b, v] = bend.map(|x| x as f64);
+    if t <= 1.0 {
+        u + (b - u) * t
+    } else {
+        b + (v - b) * (t - 1.0).min(1.0)
     }
 }
 

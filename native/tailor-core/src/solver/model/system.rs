@@ -7,7 +7,7 @@
 //! rows for the real-time sweep (the reference solver assembles its own f64 copy). Its
 //! off-diagonal pattern is the graph the colouring separates.
 
-use crate::solver::model::constraints::{StencilSet, TriangleSet};
+use crate::solver::model::constraints::{triangle, StencilSet, TriangleSet};
 use crate::solver::model::soa::vec_bytes;
 
 /// Symmetric sparse matrix: diagonal plus off-diagonal entries by row (both triangles stored).
@@ -60,12 +60,12 @@ impl SparseSym {
         let mut trip: Vec<(u32, u32, f64)> = Vec::new();
         let mut diag = vec![0.0f64; n];
         for t in 0..tris.len() {
-            let w = (tris.w_stretch[t] + tris.w_shear[t]) as f64;
+            let (ws, wsh) = ([tris.w_stretch[t], tris.w_stretch_v[t]], tris.w_shear[t]);
             let g = &tris.g[t];
             let v = tris.verts[t];
             for k in 0..3 {
                 for l in 0..3 {
-                    let c = w * (g[k][0] as f64 * g[l][0] as f64 + g[k][1] as f64 * g[l][1] as f64);
+                    let c = triangle::matrix_entry(g, k, l, ws, wsh);
                     if k == l {
                         diag[v[k] as usize] += c;
                     } else {

@@ -41,7 +41,7 @@ impl Simulation {
     }
 
     /// Each particle's stretch and shear force (`−∂E/∂x` of the triangles' energy, the
-    /// projections held: `f_k = Σⱼ g[k][j]·qⱼ − (w_s + w_sh)·Σⱼ g[k][j]·cⱼ`) plus its weight under
+    /// projections held: `f_k = Σⱼ g[k][j]·qⱼ − Σⱼ (w_sⱼ + w_sh)·g[k][j]·cⱼ`) plus its weight under
     /// the gravity in effect. Pinned particles get none (the pin holds them, not the body).
     fn cloth_forces(&self, pos: &[[f32; 3]]) -> Vec<Vec3> {
         let t = &self.model.triangles;
@@ -50,11 +50,15 @@ impl Simulation {
         for k in 0..t.len() {
             let v = t.verts[k];
             let x = v.map(|i| Vec3A::from(pos[i as usize]));
-            let (g, ws, wsh) = (&t.g[k], t.w_stretch[k], t.w_shear[k]);
+            let (g, ws, wsh) = (&t.g[k], [t.w_stretch[k], t.w_stretch_v[k]], t.w_shear[k]);
             let rhs = triangle::rhs_contributions(g, x, ws, wsh);
             let c = triangle::columns(g, x);
             for (j, &i) in v.iter().enumerate() {
-                let held = (c[0] * g[j][0] + c[1] * g[j][1]) * (ws + wsh);
+                let held = if ws[0] == ws[1] {
+                    (c[0] * g[j][0] + c[1] * g[j][1]) * (ws[0] + wsh)
+                } else {
+                    c[0] * (g[j][0] * (ws[0] + wsh)) + c[1] * (g[j][1] * (ws[1] + wsh))
+                };
                 f[i as usize] += Vec3::from(rhs[j] - held);
             }
         }

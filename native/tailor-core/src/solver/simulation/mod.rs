@@ -247,10 +247,22 @@ impl Simulation {
         self.model.set_triangle_stiffness(stretch, shear)
     }
 
+    /// Per-triangle stretch along `u` and `v` and shear, N/m (`Model::set_triangle_stiffness_uv`).
+    pub fn set_triangle_stiffness_uv(&mut self, stretch: &[f32], stretch_v: &[f32], shear: &[f32]) -> Result<()> {
+        self.sleep.wake();
+        self.model.set_triangle_stiffness_uv(stretch, stretch_v, shear)
+    }
+
     /// Per-triangle bending stiffness, N·m (`Model::set_triangle_bending`).
     pub fn set_triangle_bending(&mut self, bend: &[f32]) -> Result<()> {
         self.sleep.wake();
         self.model.set_triangle_bending(bend)
+    }
+
+    /// Per-triangle bending stiffness by direction, N·m (`Model::set_triangle_bending_directional`).
+    pub fn set_triangle_bending_directional(&mut self, bend: &[[f32; 3]]) -> Result<()> {
+        self.sleep.wake();
+        self.model.set_triangle_bending_directional(bend)
     }
 
     /// Takes the bending rest shape from a pose (creases are kept), or flat with `None`.

@@ -28,8 +28,13 @@ pub(crate) fn project_all(model: &Model, x: &Vec3Soa, slots: &mut [Vec3A]) {
     };
     tri_slots.par_chunks_mut(3 * TRI_BLOCK).enumerate().for_each(|(b, out)| {
         let r = b * TRI_BLOCK..b * TRI_BLOCK + out.len() / 3;
-        let (verts, g, ws, wsh) =
-            (&tris.verts[r.clone()], &tris.g[r.clone()], &tris.w_stretch[r.clone()], &tris.w_shear[r]);
+        let (verts, g, ws, wsv, wsh) = (
+            &tris.verts[r.clone()],
+            &tris.g[r.clone()],
+            &tris.w_stretch[r.clone()],
+            &tris.w_stretch_v[r.clone()],
+            &tris.w_shear[r],
+        );
         // Four triangles a pass, one a lane (`rhs_contributions_x4`); the block's last few alone.
         let quads = verts.len() / 4;
         for (q, out) in out[..12 * quads].chunks_exact_mut(12).enumerate() {
@@ -37,14 +42,20 @@ pub(crate) fn project_all(model: &Model, x: &Vec3Soa, slots: &mut [Vec3A]) {
             let lanes = |f: &dyn Fn(usize) -> f32| Vec4::new(f(t), f(t + 1), f(t + 2), f(t + 3));
             let x = [0, 1, 2].map(|k| [xx, xy, xz].map(|axis| lanes(&|i| axis[verts[i][k] as usize])));
             let gl = [0, 1, 2].map(|k| [0, 1].map(|j| lanes(&|i| g[i][k][j])));
-            let c = triangle::rhs_contributions_x4(&gl, &x, lanes(&|i| ws[i]), lanes(&|i| wsh[i]));
+            let w = [lanes(&|i| ws[i]), lanes(&|i| wsv[i])];
+            let c = triangle::rhs_contributions_x4(&gl, &x, w, lanes(&|i| wsh[i]));
             for (o, c) in out.chunks_exact_mut(3).zip(c) {
                 o.copy_from_slice(&c);
             }
         }
         for (t, out) in (4 * quads..verts.len()).zip(out[12 * quads..].chunks_exact_mut(3)) {
             let v = verts[t];
-            out.copy_from_slice(&triangle::rhs_contributions(&g[t], [get(v[0]), get(v[1]), get(v[2])], ws[t], wsh[t]));
+            out.copy_from_slice(&triangle::rhs_contributions(
+                &g[t],
+                [get(v[0]), get(v[1]), get(v[2])],
+                [ws[t], wsv[t]],
+                wsh[t],
+            ));
         }
     });
     let layout = &model.slots;

@@ -7,12 +7,16 @@
 //! `g[0][j] = −g[1][j] − g[2][j]`.
 //!
 //! * **Stretch** projects each column to unit length, `pⱼ = cⱼ/‖cⱼ‖`; energy
-//!   `k_s·A/2 · Σⱼ (‖cⱼ‖−1)²`, so a uniaxial tension `T` (N/m) stretches by `ε = T/k_s`.
+//!   `A/2 · Σⱼ kⱼ·(‖cⱼ‖−1)²` with `k₁` along the pattern's x axis (the fabric's `u`) and `k₂`
+//!   along its y axis (`v`), so a uniaxial tension `T` (N/m) along `u` stretches by `ε = T/k₁`.
+//!   A woven or knit fabric is anisotropic (the library's denim is 4.8 times stiffer along `v`
+//!   than along `u`); an isotropic one has `k₁ = k₂`.
 //! * **Shear** projects `(c₁, c₂)` onto the closest pair with `a·b = 0`. Lagrange conditions
 //!   give `a = (c₁−λc₂)/(1−λ²)`, `b = (c₂−λc₁)/(1−λ²)` with `dλ² − sλ + d = 0`, `d = c₁·c₂`,
 //!   `s = ‖c₁‖²+‖c₂‖²`; the root with `|λ| ≤ 1` is `λ = 2d / (s + √(s²−4d²))`.
 //!
-//! Both use the same `A`, so the system matrix gets `(k_s + k_sh)·A · G Gᵀ` per triangle.
+//! Both use the same `A`, so the system matrix gets `A·Σⱼ (kⱼ + k_sh)·gⱼgⱼᵀ` per triangle
+//! (`(k_s + k_sh)·A·GGᵀ` when `k₁ = k₂ = k_s`).
 //!
 //! [`rhs_contributions_x4`] runs four triangles at once, one a lane: the projection is a chain
 //! of dependent square roots and divisions (about 60 cycles of latency a triangle, measured as
@@ -27,8 +31,11 @@ pub struct TriangleSet {
     pub verts: Vec<[u32; 3]>,
     /// `g[k][j]`: coefficient of vertex k in column j of F.
     pub g: Vec<[[f32; 2]; 3]>,
-    /// Stretch weight `k_s · rest area`.
+    /// Stretch weight along the pattern's x axis (`u`), `k₁ · rest area`.
     pub w_stretch: Vec<f32>,
+    /// Stretch weight along the pattern's y axis (`v`), `k₂ · rest area` (equal to `w_stretch`
+    /// for an isotropic fabric).
+    pub w_stretch_v: Vec<f32>,
     /// Shear weight `k_sh · rest area`.
     pub w_shear: Vec<f32>,
 }
@@ -47,13 +54,18 @@ impl TriangleSet {
         self.verts.shrink_to_fit();
         self.g.shrink_to_fit();
         self.w_stretch.shrink_to_fit();
+        self.w_stretch_v.shrink_to_fit();
         self.w_shear.shrink_to_fit();
     }
 
     /// Heap bytes of the per-triangle arrays.
     pub fn memory_bytes(&self) -> usize {
         use crate::solver::model::soa::vec_bytes;
-        vec_bytes(&self.verts) + vec_bytes(&self.g) + vec_bytes(&self.w_stretch) + vec_bytes(&self.w_shear)
+        vec_bytes(&self.verts)
+            + vec_bytes(&self.g)
+            + vec_bytes(&self.w_stretch)
+            + vec_bytes(&self.w_stretch_v)
+            + vec_bytes(&self.w_shear)
     }
 }
 
@@ -115,21 +127,23 @@ pub fn project_shear(c: [Vec3A; 2]) -> [Vec3A; 2] {
 }
 
 /// Local step of one triangle: the right-hand-side contributions `Σⱼ g[k][j]·qⱼ` for its three
-/// vertices, where `qⱼ = w_s·p_stretchⱼ + w_sh·p_shearⱼ`.
+/// vertices, where `qⱼ = w_sⱼ·p_stretchⱼ + w_sh·p_shearⱼ` (`ws`: the stretch weights along `u`
+/// and `v`).
 #[inline(always)]
-pub fn rhs_contributions(g: &[[f32; 2]; 3], x: [Vec3A; 3], ws: f32, wsh: f32) -> [Vec3A; 3] {
+pub fn rhs_contributions(g: &[[f32; 2]; 3], x: [Vec3A; 3], ws: [f32; 2], wsh: f32) -> [Vec3A; 3] {
     let c = columns(g, x);
     let ps = project_stretch(c);
     let ph = project_shear(c);
-    let q = [ps[0] * ws + ph[0] * wsh, ps[1] * ws + ph[1] * wsh];
+    let q = [ps[0] * ws[0] + ph[0] * wsh, ps[1] * ws[1] + ph[1] * wsh];
     [q[0] * g[0][0] + q[1] * g[0][1], q[0] * g[1][0] + q[1] * g[1][1], q[0] * g[2][0] + q[1] * g[2][1]]
 }
 
 /// Four triangles' local step, triangle `i` in lane `i` of every `Vec4`: `x[k]` holds vertex
-/// `k`'s coordinates (`[x, y, z]` lanes), `g[k][j]` the coefficients, `ws`/`wsh` the weights.
-/// Returns each triangle's three contributions, as [`rhs_contributions`] would, bit for bit.
+/// `k`'s coordinates (`[x, y, z]` lanes), `g[k][j]` the coefficients, `ws` (along `u`, `v`) and
+/// `wsh` the weights. Returns each triangle's three contributions, as [`rhs_contributions`]
+/// would, bit for bit.
 #[inline(always)]
-pub fn rhs_contributions_x4(g: &[[Vec4; 2]; 3], x: &[[Vec4; 3]; 3], ws: Vec4, wsh: Vec4) -> [[Vec3A; 3]; 4] {
+pub fn rhs_contributions_x4(g: &[[Vec4; 2]; 3], x: &[[Vec4; 3]; 3], ws: [Vec4; 2], wsh: Vec4) -> [[Vec3A; 3]; 4] {
     // c[j][axis] = x0·g0j + x1·g1j + x2·g2j, left to right as `columns`.
     let c: [[Vec4; 3]; 2] =
         [0, 1].map(|j| [0, 1, 2].map(|a| x[0][a] * g[0][j] + x[1][a] * g[1][j] + x[2][a] * g[2][j]));
@@ -152,7 +166,7 @@ pub fn rhs_contributions_x4(g: &[[Vec4; 2]; 3], x: &[[Vec4; 3]; 3], ws: Vec4, ws
         [0, 1, 2].map(|a| Vec4::select(keep_state, c[0][a], (c[0][a] - c[1][a] * lambda) * inv)),
         [0, 1, 2].map(|a| Vec4::select(keep_state, c[1][a], (c[1][a] - c[0][a] * lambda) * inv)),
     ];
-    let q = [0, 1].map(|j| [0, 1, 2].map(|a| ps[j][a] * ws + ph[j][a] * wsh));
+    let q = [0, 1].map(|j| [0, 1, 2].map(|a| ps[j][a] * ws[j] + ph[j][a] * wsh));
     // Vertex k's contribution, lanes per axis, then transposed to one `Vec3A` a triangle.
     let mut out = [[Vec3A::ZERO; 3]; 4];
     for k in 0..3 {
@@ -183,14 +197,27 @@ fn sqrt4(v: Vec4) -> Vec4 {
     }
 }
 
-/// Energy `w_s/2·Σ‖cⱼ−p_sⱼ‖² + w_sh/2·Σ‖cⱼ−p_shⱼ‖²` (f64 for the error measures).
-pub fn energy(g: &[[f32; 2]; 3], x: [Vec3A; 3], ws: f32, wsh: f32) -> f64 {
+/// Energy `Σⱼ w_sⱼ/2·‖cⱼ−p_sⱼ‖² + w_sh/2·Σ‖cⱼ−p_shⱼ‖²` (f64 for the error measures).
+pub fn energy(g: &[[f32; 2]; 3], x: [Vec3A; 3], ws: [f32; 2], wsh: f32) -> f64 {
     let c = columns(g, x);
     let ps = project_stretch(c);
     let ph = project_shear(c);
-    let es: f64 = (0..2).map(|j| (c[j] - ps[j]).length_squared() as f64).sum();
+    let es: f64 = (0..2).map(|j| ws[j] as f64 * (c[j] - ps[j]).length_squared() as f64).sum();
     let eh: f64 = (0..2).map(|j| (c[j] - ph[j]).length_squared() as f64).sum();
-    0.5 * (ws as f64 * es + wsh as f64 * eh)
+    0.5 * (es + wsh as f64 * eh)
+}
+
+/// The system matrix's entry of vertices `k`, `l` of one triangle: `Σⱼ (w_sⱼ + w_sh)·g[k][j]·g[l][j]`
+/// (f64, as the assembly sums it). An isotropic triangle computes it as before anisotropy,
+/// `(w_s + w_sh)·(g[k][0]·g[l][0] + g[k][1]·g[l][1])`, so its matrix is bit for bit the same.
+#[inline]
+pub fn matrix_entry(g: &[[f32; 2]; 3], k: usize, l: usize, ws: [f32; 2], wsh: f32) -> f64 {
+    let gg = |j: usize| g[k][j] as f64 * g[l][j] as f64;
+    if ws[0] == ws[1] {
+        (ws[0] + wsh) as f64 * (gg(0) + gg(1))
+    } else {
+        (ws[0] + wsh) as f64 * gg(0) + (ws[1] + wsh) as f64 * gg(1)
+    }
 }
 
 #[cfg(test)]
@@ -208,7 +235,7 @@ mod tests {
         let x = [a, b, c].map(|r| Vec3A::new(r[0] as f32, r[1] as f32, 0.0));
         let f = columns(&g, x);
         assert!((f[0] - Vec3A::X).length() < 1e-5 && (f[1] - Vec3A::Y).length() < 1e-5, "{f:?}");
-        assert!(energy(&g, x, 1.0, 1.0) < 1e-10);
+        assert!(energy(&g, x, [1.0, 1.0], 1.0) < 1e-10);
     }
 
     #[test]
@@ -249,26 +276,67 @@ mod tests {
             seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
             (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
         };
-        let mut cases: Vec<([[f32; 2]; 3], [Vec3A; 3], f32, f32)> = Vec::new();
+        let mut cases: Vec<([[f32; 2]; 3], [Vec3A; 3], [f32; 2], f32)> = Vec::new();
         for k in 0..40 {
             let g = if k % 2 == 0 { g0 } else { g1 };
             let x = [0; 3].map(|_| Vec3A::new(next(), next(), next()));
-            cases.push((g, x, 1.0 + next(), 0.1 + next().abs()));
+            // Isotropic and anisotropic stretch weights, lane by lane.
+            let wu = 1.0 + next();
+            let wv = if k % 3 == 0 { wu } else { 1.0 + next() };
+            cases.push((g, x, [wu, wv], 0.1 + next().abs()));
         }
         let p = Vec3A::new(0.2, 0.1, 0.3);
-        cases.push((g0, [p; 3], 600.0, 60.0)); // every column zero
-        cases.push((g1, [p, p + Vec3A::X * 0.01, p + Vec3A::X * 0.01], 600.0, 60.0)); // parallel columns
+        cases.push((g0, [p; 3], [600.0, 600.0], 60.0)); // every column zero
+        cases.push((g1, [p, p + Vec3A::X * 0.01, p + Vec3A::X * 0.01], [600.0, 150.0], 60.0)); // parallel columns
         for quad in cases.chunks_exact(4) {
             let lanes = |f: &dyn Fn(usize) -> f32| Vec4::new(f(0), f(1), f(2), f(3));
             let g = [0, 1, 2].map(|k| [0, 1].map(|j| lanes(&|i| quad[i].0[k][j])));
             let x = [0, 1, 2].map(|k| [0, 1, 2].map(|a| lanes(&|i| quad[i].1[k][a])));
-            let out = rhs_contributions_x4(&g, &x, lanes(&|i| quad[i].2), lanes(&|i| quad[i].3));
+            let ws = [0, 1].map(|j| lanes(&|i| quad[i].2[j]));
+            let out = rhs_contributions_x4(&g, &x, ws, lanes(&|i| quad[i].3));
             for (i, (g, x, ws, wsh)) in quad.iter().enumerate() {
                 let want = rhs_contributions(g, *x, *ws, *wsh);
                 for k in 0..3 {
                     let (got, want) = (out[i][k].to_array().map(f32::to_bits), want[k].to_array().map(f32::to_bits));
                     assert_eq!(got, want, "lane {i}, vertex {k}");
                 }
+            }
+        }
+    }
+
+    /// The anisotropic energy is the sum of each column's spring along its own axis: a rest
+    /// triangle stretched by `ε` along `u` alone costs `w_u/2·ε²·(…)`, along `v` alone `w_v/2`;
+    /// the local step's right-hand side is the energy's target (the gradient vanishes at the
+    /// projections held fixed: `Σ g·q = Σⱼ (w_sⱼ + w_sh)·g·cⱼ` at rest).
+    #[test]
+    fn stretch_along_u_and_v_costs_its_own_stiffness() {
+        let (a, b, c) = ([0.0, 0.0], [0.01, 0.0], [0.0, 0.01]);
+        let g = strain_coefficients(a, b, c).unwrap();
+        let at = |sx: f32, sy: f32| [a, b, c].map(|r| Vec3A::new(r[0] as f32 * sx, r[1] as f32 * sy, 0.0));
+        let (wu, wv) = (4.0f32, 1.0f32);
+        let eu = energy(&g, at(1.1, 1.0), [wu, wv], 0.0);
+        let ev = energy(&g, at(1.0, 1.1), [wu, wv], 0.0);
+        assert!((eu - 0.5 * 4.0 * 0.01).abs() < 1e-6, "{eu}");
+        assert!((ev - 0.5 * 1.0 * 0.01).abs() < 1e-6, "{ev}");
+        // At rest the right-hand side equals the matrix times the positions (a fixed point).
+        let x = at(1.0, 1.0);
+        let rhs = rhs_contributions(&g, x, [wu, wv], 0.5);
+        for k in 0..3 {
+            let ax: Vec3A = (0..3).map(|l| x[l] * matrix_entry(&g, k, l, [wu, wv], 0.5) as f32).sum();
+            assert!((ax - rhs[k]).length() < 1e-3, "vertex {k}: {ax:?} against {:?}", rhs[k]);
+        }
+    }
+
+    /// Isotropic weights give the matrix entries of the formula before anisotropy, bit for bit.
+    #[test]
+    fn isotropic_matrix_entries_are_unchanged() {
+        let (a, b, c) = rest();
+        let g = strain_coefficients(a, b, c).unwrap();
+        for k in 0..3 {
+            for l in 0..3 {
+                let old =
+                    (600.0f32 + 60.0) as f64 * (g[k][0] as f64 * g[l][0] as f64 + g[k][1] as f64 * g[l][1] as f64);
+                assert_eq!(matrix_entry(&g, k, l, [600.0, 600.0], 60.0).to_bits(), old.to_bits());
             }
         }
     }

@@ -31,6 +31,11 @@ def test_beam_bending_length():
     assert st.rigidity(tailor.Fabric(bend=2e-5)) == pytest.approx(6e-5)
     names = [n for n, _ in st.fabrics()]
     assert names[:-1] == [f["name"] for f in tailor.fabric_library()] and names[-1].startswith("default")
+    # Each library fabric run isotropic, its measured directions' means: one rigidity to compare.
+    for (_, f), lib in zip(st.fabrics(), tailor.fabric_library()):
+        assert f.stretch_v is None and f.bend_bias is None and f.bend_v is None
+        assert st.rigidity(f) == pytest.approx(lib["rigidity"], rel=1e-6)
+        assert f.stretch == pytest.approx(math.sqrt(lib["stretch_u"] * lib["stretch_v"]), rel=1e-6)
 
 
 def disc():

@@ -45,8 +45,15 @@ G = 9.81
 
 
 def fabrics() -> list[tuple[str, "tailor.Fabric"]]:
-    """Every library fabric, lightest first, then Tailor's default fabric."""
-    return [(f["name"], f["fabric"]) for f in tailor.fabric_library()] + [("default (Tailor's)", tailor.Fabric())]
+    """Every library fabric, lightest first, then Tailor's default fabric. A library fabric is
+    taken isotropic, its measured directions' geometric means (the library's solver fabric is
+    anisotropic, `f["fabric"]`; a specimen cut along each direction is not run yet), so that the
+    beam length compares with the one rigidity the strip bends with."""
+    def mean(f: dict) -> "tailor.Fabric":
+        return tailor.Fabric(f["density"], math.sqrt(f["stretch_u"] * f["stretch_v"]), f["shear"],
+                             f["rigidity"] / tailor.HINGE_ENERGY_PER_RIGIDITY)
+
+    return [(f["name"], mean(f)) for f in tailor.fabric_library()] + [("default (Tailor's)", tailor.Fabric())]
 
 
 def rigidity(fabric) -> float:

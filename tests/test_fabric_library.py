@@ -114,7 +114,7 @@ def test_an_anisotropic_fabric_is_simulated_by_direction(tmp_path):
     """`Fabric(stretch_v=...)`: a strip hanging along the pattern's y axis (v) stretches by the
     stiffness along v; the same strip of the isotropic fabric of u's stiffness hangs longer. The
     fabric's directions reach a garment's setup and its file; a bad value is refused by name."""
-    def hang(fabric):
+    def hang(fabric, grain=0.0):
         w, l, nx, ny = 0.1, 0.5, 4, 20
         xs, ys = np.meshgrid(np.linspace(0, w, nx + 1), np.linspace(0, l, ny + 1))
         rest = np.stack([xs.ravel(), ys.ravel()], 1).astype(np.float32)
@@ -124,6 +124,8 @@ def test_an_anisotropic_fabric_is_simulated_by_direction(tmp_path):
         pos = np.stack([rest[:, 0], np.zeros(len(rest)), rest[:, 1] - l], 1).astype(np.float32)
         sim = tailor.Simulation(pos, np.asarray(tris, np.uint32), rest, fabric=fabric,
                                 settings=tailor.Settings(iterations=100, air_damping=4.0))
+        if grain:
+            sim.set_triangle_grain(np.full(len(tris), grain, np.float32))
         sim.pin(np.arange(idx(0, ny), idx(nx, ny) + 1, dtype=np.uint32))
         for _ in range(120):
             sim.step(1 / 30)
@@ -131,8 +133,11 @@ def test_an_anisotropic_fabric_is_simulated_by_direction(tmp_path):
 
     soft = hang(tailor.Fabric(0.2, 20.0, 20.0, 1e-7))
     aniso = hang(tailor.Fabric(0.2, 20.0, 20.0, 1e-7, stretch_v=80.0))
+    # The fabric turned a quarter (its u axis along the strip): u's stiffness again.
+    turned = hang(tailor.Fabric(0.2, 20.0, 20.0, 1e-7, stretch_v=80.0), grain=np.pi / 2)
     want = 0.2 * 9.81 * 0.5 ** 2 / 2
     assert soft == pytest.approx(want / 20.0, rel=0.05) and aniso == pytest.approx(want / 80.0, rel=0.05)
+    assert turned == pytest.approx(want / 20.0, rel=0.05)
     f = tailor.Fabric(0.2, 20.0, 20.0, 1e-7, stretch_v=80.0, bend_v=2e-7)
     assert "stretch_v=80" in repr(f) and f.bend_bias is None
     g = tailor.Garment.from_pattern(str(SKIRT), edge=0.08)

@@ -136,6 +136,8 @@ class Simulation:
     def set_triangle_stiffness(self, stretch: ArrayLike, shear: ArrayLike, stretch_v: ArrayLike | None = None) -> None:
         """Stretch (along u, and v unless `stretch_v`) and shear stiffness per triangle, N/m."""
     def set_triangle_bending(self, bend: ArrayLike) -> None: ...
+    def set_triangle_grain(self, angle: ArrayLike) -> None:
+        """The fabric's u axis per triangle, radians from the pattern's x axis (0: the pattern's axes)."""
     def set_bending_rest_pose(self, pose: ArrayLike | None = None) -> None: ...
     def add_seam(
         self, a: ArrayLike, b: ArrayLike, stiffness: float = 10000.0, bend_stiffness: float = 1e-5, name: str = "seam"

@@ -276,3 +276,35 @@ fn an_anisotropic_piece_is_stored_and_simulated_by_direction() {
     }
     assert!(spread.1 > 1.2 * spread.0, "the hinges' bending does not vary with direction: {spread:?}");
 }
+
+/// An anisotropic piece lies along its pattern's grain line (`v` on the line): a grain line at
+/// 45° turns its triangles' fabric by -45°, a vertical one (or none) leaves the pattern's axes,
+/// and an isotropic piece keeps the pattern's axes whatever its grain line (its results as
+/// before, bit for bit).
+#[test]
+fn an_anisotropic_piece_lies_along_its_grain_line() {
+    use tailor_core::garment::setup::fabric_grain;
+    let denim = tailor_core::fabrics::named("11oz-black-denim").unwrap().fabric();
+    let mut g = garment();
+    let quarter = std::f32::consts::FRAC_PI_4;
+    assert_eq!(fabric_grain(&g.pieces[0].source), 0.0); // no grain line
+    g.pieces[0].source.grain = Some([[0.1, 0.0], [0.1, 0.3]]);
+    assert_eq!(fabric_grain(&g.pieces[0].source), 0.0); // vertical
+    g.pieces[0].source.grain = Some([[0.1, 0.3], [0.1, 0.0]]);
+    assert_eq!(fabric_grain(&g.pieces[0].source), 0.0); // drawn downwards: the same
+    g.pieces[1].source.grain = Some([[0.0, 0.0], [0.2, 0.2]]);
+    assert!((fabric_grain(&g.pieces[1].source) + quarter).abs() < 1e-6);
+    g.setup.fabrics = vec![denim, denim];
+    let m0 = triangulate_piece(&g.pieces[0].source, &g.pieces[0].options).unwrap().triangles.len();
+    let (sim, _, _) = build_configured(&g, None, SolverSettings::default(), &BuildOptions::default(), true).unwrap();
+    let grain = &sim.model().grain;
+    assert!(grain[..m0].iter().all(|&a| a == 0.0) && grain[m0..].iter().all(|&a| (a + quarter).abs() < 1e-6));
+    // Isotropic pieces: the pattern's axes, whatever the grain line.
+    g.setup.fabrics = vec![Fabric::default(), Fabric::default()];
+    let (iso, _, _) = build_configured(&g, None, SolverSettings::default(), &BuildOptions::default(), true).unwrap();
+    assert!(iso.model().grain.iter().all(|&a| a == 0.0));
+    let mut plain = garment();
+    plain.setup.fabrics = g.setup.fabrics.clone();
+    let (p, _, _) = build_configured(&plain, None, SolverSettings::default(), &BuildOptions::default(), true).unwrap();
+    assert_eq!(iso.model().triangles.g, p.model().triangles.g);
+}

@@ -11,10 +11,19 @@ use tailor_core::solver::{Fabric, Simulation, SolverSettings};
 /// Projective Dynamics' iteration-dependent softness grows with the stiffness).
 const ITERATIONS: u32 = 200;
 
+/// Frames the strip hangs for before it is measured (4 s: settled to the elongation's 1 %).
+const FRAMES: usize = 120;
+
 /// A `0.2 × 1 m` strip, its length along the pattern's `u` (x) or `v` (y) axis, hung from its
-/// top edge for 8 s (as `solver_physics.rs`'s hanging strip). Returns (settled length, the
+/// top edge for 4 s (as `solver_physics.rs`'s hanging strip). Returns (settled length, the
 /// length beam theory gives for the stiffness along the strip, `ρ·g·L²/(2k)` more than `L`).
 fn hang(fabric: Fabric, along_u: bool) -> (f32, f32) {
+    hang_turned(fabric, along_u, 0.0)
+}
+
+/// [`hang`] with the fabric turned on the pattern by `grain` radians (`set_triangle_grain`);
+/// the analytic length is for the pattern axis the strip runs along, as in `hang`.
+fn hang_turned(fabric: Fabric, along_u: bool, grain: f32) -> (f32, f32) {
     let (w, l, across, along) = (0.2f32, 1.0f32, 8usize, 40usize);
     let (rest, tris) = if along_u { rectangle(l, w, along, across) } else { rectangle(w, l, across, along) };
     // The strip's length coordinate in the pattern (0 at the bottom, `l` at the top).
@@ -28,8 +37,12 @@ fn hang(fabric: Fabric, along_u: bool) -> (f32, f32) {
     let k = if along_u { fabric.stretch_uv()[0] } else { fabric.stretch_uv()[1] };
     let settings = SolverSettings { air_damping: 4.0, iterations: ITERATIONS, ..Default::default() };
     let mut sim = Simulation::new(mesh, fabric, settings).unwrap();
+    if grain != 0.0 {
+        let m = sim.model().triangles.len();
+        sim.set_triangle_grain(&vec![grain; m]).unwrap();
+    }
     sim.pin(&top, None).unwrap();
-    for _ in 0..240 {
+    for _ in 0..FRAMES {
         sim.step(1.0 / 30.0).unwrap();
     }
     let x = sim.positions();
@@ -178,4 +191,30 @@ fn a_bad_direction_is_refused_by_name() {
         let e = Simulation::new(mesh, fabric, SolverSettings::default()).err().expect("refused").to_string();
         assert!(e.contains(field), "{field}: {e}");
     }
+}
+
+/// The fabric turned a quarter on the pattern (`set_triangle_grain`, as a piece whose grain line
+/// runs along the pattern's x axis): the strip along the pattern's y axis now runs along the
+/// fabric's `u` and stretches by `u`'s stiffness, four times as much as unturned. An angle of 0
+/// gives the built coefficients bit for bit, and a bad angle or count is refused.
+#[test]
+fn a_turned_grain_puts_the_fabric_axes_along_it() {
+    let aniso = Fabric { stretch_v: Some(160.0), ..Fabric::isotropic(0.2, 40.0, 40.0, 1e-7) };
+    // Unturned, the same strip stretches by v's stiffness (`a_hanging_strip_stretches_by_...`).
+    let (turned, _) = hang_turned(aniso, false, std::f32::consts::FRAC_PI_2);
+    let want_u = 1.0 + 0.2 * 9.81 / (2.0 * 40.0);
+    println!("along the pattern's y, the fabric turned a quarter: {turned:.5} m (u's analytic {want_u:.5})");
+    assert!(((turned - 1.0) / (want_u - 1.0) - 1.0).abs() < 0.03, "turned: {turned} m against {want_u} m");
+    let (rest, tris) = rectangle(0.1, 0.1, 3, 3);
+    let mesh = || ClothMesh::new(rest.iter().map(|r| [r[0], r[1], 0.0]).collect(), rest.clone(), tris.clone()).unwrap();
+    let mut sim = Simulation::new(mesh(), aniso, SolverSettings::default()).unwrap();
+    let built = sim.model().triangles.g.clone();
+    let m = built.len();
+    sim.set_triangle_grain(&vec![0.7; m]).unwrap();
+    assert_ne!(sim.model().triangles.g, built);
+    sim.set_triangle_grain(&vec![0.0; m]).unwrap();
+    assert_eq!(sim.model().triangles.g, built);
+    assert!(sim.set_triangle_grain(&vec![0.0; m - 1]).is_err());
+    let e = sim.set_triangle_grain(&vec![f32::NAN; m]).err().expect("refused").to_string();
+    assert!(e.contains("grain"), "{e}");
 }

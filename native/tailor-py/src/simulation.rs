@@ -380,6 +380,16 @@ impl Simulation {
         })
     }
 
+    /// The fabric's orientation per triangle: the angle of its u axis from the pattern's x axis,
+    /// radians (a garment turns an anisotropic piece's fabric so that v lies along its grain
+    /// line). Call before setting directional bending; 0 everywhere is the pattern's axes.
+    fn set_triangle_grain(&mut self, angle: &Bound<'_, PyAny>) -> PyResult<()> {
+        crate::errors::guard(|| {
+            let angle = floats(angle, "grain angle")?;
+            self.solver_mut()?.edit(|sim| sim.set_triangle_grain(&angle)).map_err(to_py)
+        })
+    }
+
     /// Bending stiffness (N·m) per triangle; each interior edge's hinge takes the mean of its two.
     fn set_triangle_bending(&mut self, bend: &Bound<'_, PyAny>) -> PyResult<()> {
         crate::errors::guard(|| {

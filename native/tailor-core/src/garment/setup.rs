@@ -242,6 +242,15 @@ pub fn apply_fabric(
     let per_tri = |value: fn(&Fabric) -> f32| -> Vec<f32> {
         fabrics.iter().zip(&layout.triangles).flat_map(|(f, &n)| std::iter::repeat_n(value(f), n)).collect()
     };
+    // An anisotropic piece's fabric lies along its grain line (the pattern file's), the
+    // lengthwise direction on `v` (see `fabric_grain`); an isotropic one keeps the pattern's axes.
+    let grain: Vec<f32> = fabrics
+        .iter()
+        .zip(&garment.pieces)
+        .zip(&layout.triangles)
+        .flat_map(|((f, p), &n)| std::iter::repeat_n(if f.is_isotropic() { 0.0 } else { fabric_grain(&p.source) }, n))
+        .collect();
+    sim.set_triangle_grain(&grain)?;
     sim.set_triangle_stiffness_uv(
         &per_tri(|f| f.stretch_uv()[0]),
         &per_tri(|f| f.stretch_uv()[1]),
@@ -274,4 +283,28 @@ pub fn apply_fabric(
         .map(|(d, m)| d * m)
         .collect();
     sim.set_mass_scale(&scale)
+}
+
+/// The angle of an anisotropic fabric's `u` axis from a piece's pattern x axis, radians: the
+/// piece's grain line (the lengthwise grain a pattern file marks) on the fabric's `v` axis, so
+/// `u` a quarter turn before it; 0 (the pattern's axes) for a piece without one. Why `v`: the
+/// library's source names its axes `u` and `v` only, and every knit and the stretch denim there
+/// is stiffer along `v`, as wales and warp, the lengthwise directions, are; a pattern drawn
+/// upright (GarmentCode's, most DXF pieces: a vertical grain line) then has `v` up either way.
+pub fn fabric_grain(piece: &crate::pattern::Piece) -> f32 {
+    match piece.grain {
+        Some([a, b]) if (b[0] - a[0]).hypot(b[1] - a[1]) > 0.0 => {
+            let lengthwise = (b[1] - a[1]).atan2(b[0] - a[0]);
+            // v along the grain line: u a quarter turn clockwise of it; a vertical line gives 0.
+            let u = lengthwise - std::f64::consts::FRAC_PI_2;
+            // Folded into (−90°, 90°]: a half turn changes nothing.
+            let folded = u - std::f64::consts::PI * (u / std::f64::consts::PI).round();
+            if folded.abs() < 1e-9 {
+                0.0
+            } else {
+                folded as f32
+            }
+        }
+        _ => 0.0,
+    }
 }

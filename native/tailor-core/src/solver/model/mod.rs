@@ -152,6 +152,9 @@ pub struct Model {
     pub pinned: Vec<bool>,
     /// Whether each particle is on a seam (a vertex of some sewn pair's stencil).
     pub sewn: Vec<bool>,
+    /// Per triangle, the angle of the fabric's `u` axis from the pattern's x axis, radians (0:
+    /// the pattern's axes are the fabric's; `set_triangle_grain`).
+    pub grain: Vec<f32>,
     // Derived, rebuilt when `dirty`.
     pub dirty: bool,
     /// Times the matrix, colouring and slot layout were rebuilt (they are kept while the
@@ -221,6 +224,7 @@ impl Model {
             collider_attachments: Vec::new(),
             pinned: vec![false; n],
             sewn: vec![false; n],
+            grain: vec![0.0; mesh.num_triangles()],
             dirty: true,
             rebuilds: 0,
             matrix32: SparseSym32::default(),
@@ -256,6 +260,7 @@ impl Model {
             + vec_bytes(&self.collider_attachments)
             + vec_bytes(&self.pinned)
             + vec_bytes(&self.sewn)
+            + vec_bytes(&self.grain)
             + self.matrix32.memory_bytes()
             + self.colouring.memory_bytes()
             + self.slots.memory_bytes()
@@ -341,6 +346,41 @@ impl Model {
         Ok(())
     }
 
+    /// Per-triangle fabric orientation: `angle[t]` is the angle of the fabric's `u` axis from
+    /// the pattern's x axis, radians. The triangle's strain coefficients are those of its rest
+    /// shape turned by `−angle`, so that the columns of `F` are the images of the fabric's `u` and
+    /// `v` (the stretch along each, the shear between them), and its hinges' directions are read
+    /// from `u` ([`set_triangle_bending_directional`](Self::set_triangle_bending_directional),
+    /// called after this). An angle of 0 gives the coefficients [`new`](Self::new) computed, bit
+    /// for bit. A turn by a multiple of 180° changes nothing (both columns change sign).
+    pub fn set_triangle_grain(&mut self, angle: &[f32]) -> Result<()> {
+        let m = self.triangles.len();
+        if angle.len() != m {
+            return Err(TailorError::shape("triangle grain", format!("{} angles for {m} triangles", angle.len())));
+        }
+        if let Some((t, a)) = angle.iter().enumerate().find(|(_, a)| !a.is_finite()) {
+            return Err(TailorError::shape("triangle grain", format!("triangle {t}: angle {a} is not finite")));
+        }
+        let rest = self.mesh.rest();
+        for (t, tri) in self.mesh.triangles().iter().enumerate() {
+            let (s, c) = (-angle[t] as f64).sin_cos();
+            let r = |v: u32| {
+                let [x, y] = [rest[v as usize][0] as f64, rest[v as usize][1] as f64];
+                if angle[t] == 0.0 {
+                    [x, y]
+                } else {
+                    [c * x - s * y, s * x + c * y]
+                }
+            };
+            self.triangles.g[t] = strain_coefficients(r(tri[0]), r(tri[1]), r(tri[2])).ok_or_else(|| {
+                TailorError::DegenerateTriangle { triangle: t, reason: "its rest shape is degenerate".into() }
+            })?;
+        }
+        self.grain.copy_from_slice(angle);
+        self.dirty = true;
+        Ok(())
+    }
+
     /// Per-triangle bending stiffness by direction (N·m, `[u, bias, v]` as
     /// [`Fabric::bend_directions`]): each hinge takes the mean of its two triangles' values at
     /// its edge's direction in the pattern ([`bend_at_angle`]). A triangle whose three values
@@ -361,7 +401,8 @@ impl Model {
                     if b[0] == b[1] && b[1] == b[2] {
                         b[0] as f64
                     } else {
-                        bend_at_angle(b, angle)
+                        // The edge's angle from the fabric's u axis in this triangle.
+                        bend_at_angle(b, angle - self.grain[t as usize] as f64)
                     }
                 };
                 bending_weight(0.5 * (at(t0) + at(t1)), area)

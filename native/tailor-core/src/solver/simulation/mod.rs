@@ -259,6 +259,12 @@ impl Simulation {
         self.model.set_triangle_bending(bend)
     }
 
+    /// Per-triangle fabric orientation, radians from the pattern's x axis (`Model::set_triangle_grain`).
+    pub fn set_triangle_grain(&mut self, angle: &[f32]) -> Result<()> {
+        self.sleep.wake();
+        self.model.set_triangle_grain(angle)
+    }
+
     /// Per-triangle bending stiffness by direction, N·m (`Model::set_triangle_bending_directional`).
     pub fn set_triangle_bending_directional(&mut self, bend: &[[f32; 3]]) -> Result<()> {
         self.sleep.wake();

@@ -328,3 +328,18 @@ def test_garment_gives_back_its_placements_bends_and_meshers(tmp_path):
     g4 = tailor.Garment.from_parts(g3.pieces, g3.edge_lengths, g3.seams, placements=placements, bends=bends,
                                    meshers=g3.meshers)
     np.testing.assert_array_equal(g3.build_simulation()[0].positions, g4.build_simulation()[0].positions)
+
+
+def test_a_piece_cut_on_the_fold_is_read_whole_unless_asked_not_to():
+    """A DXF piece drawn as a half with a mirror line (AAMA layer 6) is mirrored into the whole
+    piece by `read_pattern` and `Garment.from_pattern`; `unfold=False` reads it as drawn."""
+    path = str(DATA / "dxf" / "synthetic_fold.dxf")
+
+    def area(piece):
+        o = np.asarray(piece.outline, np.float64)
+        return 0.5 * abs(np.sum(o[:, 0] * np.roll(o[:, 1], -1) - np.roll(o[:, 0], -1) * o[:, 1]))
+
+    whole, drawn = tailor.read_pattern(path).pieces[0], tailor.read_pattern(path, unfold=False).pieces[0]
+    assert area(drawn) == pytest.approx(0.0481) and area(whole) == pytest.approx(0.0962)
+    g, half = tailor.Garment.from_pattern(path, edge=0.03), tailor.Garment.from_pattern(path, edge=0.03, unfold=False)
+    assert len(g.meshes()[0].rest) > len(half.meshes()[0].rest)

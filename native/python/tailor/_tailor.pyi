@@ -443,6 +443,7 @@ class Garment:
         size: str | None = None,
         units: str | None = None,
         tolerance: float = 0.0005,
+        unfold: bool = True,
     ) -> Garment: ...
     @staticmethod
     def from_parts(
@@ -495,8 +496,9 @@ class Garment:
     def welded(self, positions: ArrayLike | None = None, gap: float = 0.05) -> WeldedMesh: ...
 
 def read_pattern(
-    path: str, size: str | None = None, units: str | None = None, tolerance: float = 0.0005
-) -> Pattern: ...
+    path: str, size: str | None = None, units: str | None = None, tolerance: float = 0.0005, unfold: bool = True
+) -> Pattern:
+    """`unfold`: a DXF piece drawn as a half with a mirror line (cut on the fold) becomes the whole piece."""
 def list_sizes(path: str) -> list[str]: ...
 def triangulate(piece: Piece, edge: float = 0.01, mesher: int | None = None) -> PieceMesh: ...
 def nearest_contour_position(mesh: PieceMesh, point: tuple[float, float]) -> int: ...

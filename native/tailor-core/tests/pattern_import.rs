@@ -141,7 +141,8 @@ fn scan_dxf(path: &Path, size: Option<&str>) -> (Vec<(String, f64)>, f64) {
 fn check_dxf_against_scan(file: &str, pieces: usize) {
     let Some(path) = shared(&format!("astm-parser-dxf/{file}")) else { return };
     let t = std::time::Instant::now();
-    let p = read(&path);
+    // As drawn: the scan measures the drawn boundary (a piece cut on the fold is its half).
+    let p = read_pattern(&path, &ReadOptions { unfold: false, ..Default::default() }).unwrap();
     let took = t.elapsed();
     check_invariants(&p);
     assert_eq!(p.pieces.len(), pieces, "{file}: {:?}", p.pieces.iter().map(|x| &x.name).collect::<Vec<_>>());
@@ -177,7 +178,7 @@ fn wm_slim_tank_imports_front_and_back_at_sample_size() {
     assert_eq!(names, ["TANK_SR_BK", "TANK_SR_FR"]);
     // Every size reads, and the graded pieces grow with the size.
     let per = |s: &str| {
-        let o = ReadOptions { size: Some(s.into()), ..Default::default() };
+        let o = ReadOptions { size: Some(s.into()), unfold: false, ..Default::default() };
         let p = read_pattern(&path, &o).unwrap();
         assert_eq!(p.size.as_deref(), Some(s));
         outline::perimeter(&p.pieces[0].outline)
@@ -185,6 +186,12 @@ fn wm_slim_tank_imports_front_and_back_at_sample_size() {
     assert!(per("26") < per("36") && per("36") < per("52"));
     let (scan, units) = scan_dxf(&path, Some("52"));
     close(per("52"), scan[0].1 * units, 0.005, "size 52");
+    // Both pieces are drawn as halves cut on the fold: read whole, twice the area.
+    let drawn = read_pattern(&path, &ReadOptions { unfold: false, ..Default::default() }).unwrap();
+    for (w, d) in p.pieces.iter().zip(&drawn.pieces) {
+        let (aw, ad) = (outline::signed_area(&w.outline).abs(), outline::signed_area(&d.outline).abs());
+        close(aw, 2.0 * ad, 1e-4, &format!("{} unfolded", w.name));
+    }
 }
 
 #[test]
@@ -570,4 +577,34 @@ fn garmentcode_stitches_sew_right_side_to_right_side_unless_marked() {
     bad["pattern"]["stitches"][4].as_array_mut().unwrap().push("inside_out".into());
     let e = parse(&bad).unwrap_err().to_string();
     assert!(e.contains("stitch 4") && e.contains("right_wrong"), "{e}");
+}
+
+/// A piece cut on the fold (`synthetic_fold.dxf`: its right half drawn, a mirror line on the
+/// fold) is read as the whole piece: twice the half's area, symmetric about the fold, its notch,
+/// turn point and internal line copied across (the notch a fixed vertex on both sides); with
+/// `unfold` off, as drawn.
+#[test]
+fn a_piece_cut_on_the_fold_is_read_whole() {
+    let path = data("dxf/synthetic_fold.dxf");
+    let whole = read(&path);
+    check_invariants(&whole);
+    let drawn = read_pattern(&path, &ReadOptions { unfold: false, ..Default::default() }).unwrap();
+    let (w, d) = (&whole.pieces[0], &drawn.pieces[0]);
+    assert_eq!(w.name, "YOKE");
+    close(outline::signed_area(&d.outline).abs(), 0.0481, 1e-9, "the half");
+    close(outline::signed_area(&w.outline).abs(), 0.0962, 1e-9, "the whole piece");
+    // Symmetric about x = 0: every vertex has its mirror image.
+    for p in &w.outline {
+        assert!(
+            w.outline.iter().any(|q| (q[0] + p[0]).abs() < 1e-12 && (q[1] - p[1]).abs() < 1e-12),
+            "{p:?} has no mirror"
+        );
+    }
+    assert_eq!((d.notches.len(), w.notches.len()), (1, 2));
+    assert_eq!((d.internal_lines.len(), w.internal_lines.len()), (1, 2));
+    for q in &w.notches {
+        let i = w.outline.iter().position(|v| outline::dist(*v, *q) < 1e-9).expect("a notch on the outline");
+        assert!(w.fixed_vertices.contains(&i), "notch {q:?} is not fixed");
+    }
+    assert_eq!(w.grain, d.grain);
 }

@@ -74,7 +74,7 @@ impl Garment {
     /// Reads a pattern file and triangulates every piece at `edge` metres; GarmentCode
     /// placements are kept and stitches become seams.
     #[staticmethod]
-    #[pyo3(signature = (path, edge=0.01, size=None, units=None, tolerance=0.0005))]
+    #[pyo3(signature = (path, edge=0.01, size=None, units=None, tolerance=0.0005, unfold=true))]
     fn from_pattern(
         py: Python<'_>,
         path: PathBuf,
@@ -82,9 +82,10 @@ impl Garment {
         size: Option<String>,
         units: Option<&str>,
         tolerance: f64,
+        unfold: bool,
     ) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let read = read_options(size, units, tolerance)?;
+            let read = read_options(size, units, tolerance, unfold)?;
             let (_, inner, meshes) =
                 py.detach(|| core::read_garment(&path, &read, &TriangulateOptions::new(edge))).map_err(to_py)?;
             Ok(Self { inner, meshes: Some(meshes), build_warnings: Vec::new() })

@@ -10,6 +10,7 @@ pub mod garmentcode;
 pub mod outline;
 pub mod svg;
 mod types;
+pub mod unfold;
 mod units;
 
 pub use types::*;
@@ -31,11 +32,14 @@ pub struct ReadOptions {
     pub units_override: Option<Units>,
     /// Curve flattening chord tolerance in metres.
     pub tolerance_m: f64,
+    /// Mirror a piece drawn as a half across its mirror line (a piece cut on the fold; AAMA
+    /// layer 6) into the whole piece ([`unfold`]). Default true.
+    pub unfold: bool,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { size: None, units_override: None, tolerance_m: 0.0005 }
+        ReadOptions { size: None, units_override: None, tolerance_m: 0.0005, unfold: true }
     }
 }
 

@@ -3,7 +3,9 @@
 //! Each piece is one BLOCK (inserted once in ENTITIES). Inside a block the layer says what an
 //! entity is: 1 boundary, 2 turn points, 4 notches (and 80–83, the T, castle, check and U
 //! notches, drawn as lines from the boundary), 7 grain line, 8 internal lines, 11 internal
-//! cutouts (holes). Not used: 3 curve points, 5 grade reference, 6 mirror line, 9/10 stripe and
+//! cutouts (holes), 6 mirror line (a piece drawn as a half, cut on the fold: mirrored into the
+//! whole piece unless `ReadOptions::unfold` is off, `pattern::unfold`). Not used: 3 curve
+//! points, 5 grade reference, 9/10 stripe and
 //! plaid references, 13 drill holes, 14 sew lines, 84 validation curves. Annotation is TEXT or
 //! ATTRIB `Key: value`: `Piece Name:` and `Size:` in each block (or in ATTRIBs of its INSERT),
 //! `Units:` (ENGLISH = inches, METRIC = millimetres) and `Sample Size:` in ENTITIES. Without
@@ -24,7 +26,7 @@ use super::document::{Block, Document, Entity};
 use super::geometry::{self, describe};
 use crate::error::{Result, TailorError};
 use crate::pattern::outline::{self, dist};
-use crate::pattern::{Pattern, Piece, Point2, ReadOptions, Units};
+use crate::pattern::{unfold, Pattern, Piece, Point2, ReadOptions, Units};
 
 /// Outline vertices turning by more than this are corners (fixed vertices).
 const CORNER_TURN_DEG: f64 = 30.0;
@@ -117,7 +119,7 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
             continue;
         }
         let name = annotations(block_notes(doc, b), "piece name").unwrap_or_else(|| b.name.clone());
-        pieces.push(piece(file, b, name, units.metres(), opts.tolerance_m, &mut budget)?);
+        pieces.push(piece(file, b, name, units.metres(), opts, &mut budget)?);
     }
     if pieces.is_empty() {
         return Err(TailorError::parse(file, "BLOCKS", "no block has a boundary on layer 1"));
@@ -129,13 +131,15 @@ fn scaled(p: Point2, s: f64) -> Point2 {
     [p[0] * s, p[1] * s]
 }
 
-fn piece(file: &str, b: &Block, name: String, scale: f64, tol_m: f64, budget: &mut usize) -> Result<Piece> {
+fn piece(file: &str, b: &Block, name: String, scale: f64, opts: &ReadOptions, budget: &mut usize) -> Result<Piece> {
+    let tol_m = opts.tolerance_m;
     let ctx = format!("BLOCK {:?}", b.name);
     let tol = tol_m / scale;
     let mut loops = Vec::new();
     let mut cutouts = Vec::new();
     let mut open = Vec::new();
     let (mut turns, mut notches, mut internal, mut grain) = (Vec::new(), Vec::new(), Vec::new(), None);
+    let mut mirror: Option<[Point2; 2]> = None;
     for e in &b.entities {
         let layer = e.layer();
         if e.kind == "POINT" {
@@ -150,7 +154,7 @@ fn piece(file: &str, b: &Block, name: String, scale: f64, tol_m: f64, budget: &m
             }
             continue;
         }
-        if !matches!(layer, "1" | "4" | "7" | "8" | "11" | "80" | "81" | "82" | "83") {
+        if !matches!(layer, "1" | "4" | "6" | "7" | "8" | "11" | "80" | "81" | "82" | "83") {
             continue;
         }
         let Some(path) = geometry::path(file, &ctx, e, tol)? else { continue };
@@ -166,6 +170,7 @@ fn piece(file: &str, b: &Block, name: String, scale: f64, tol_m: f64, budget: &m
             // A slit notch is drawn as a short line starting on the boundary.
             "4" | "80" | "81" | "82" | "83" => notches.push(pts[0]),
             "11" if path.closed && pts.len() >= 3 => cutouts.push(pts),
+            "6" if mirror.is_none() && pts.len() >= 2 => mirror = Some([pts[0], pts[pts.len() - 1]]),
             "7" if grain.is_none() && pts.len() >= 2 => grain = Some([pts[0], pts[pts.len() - 1]]),
             "8" => {
                 let mut p = pts;
@@ -221,6 +226,10 @@ fn piece(file: &str, b: &Block, name: String, scale: f64, tol_m: f64, budget: &m
     }
 
     let snap = 5e-4;
+    if let (true, Some(line)) = (opts.unfold, mirror) {
+        // A half cut on the fold: the whole piece (left as drawn where it cannot be read so).
+        unfold::unfold(&mut outline_pts, &mut holes, &mut internal, &mut [&mut notches, &mut turns], line, snap);
+    }
     let mut fixed_pts = Vec::new();
     for p in turns.iter().chain(&notches) {
         if outline::vertex_at(&mut outline_pts, *p, snap).is_some() {

@@ -103,7 +103,28 @@ def attrib():
     open("synthetic_attrib.dxf", "w", newline="\n").write(out)
 
 
+def fold():
+    """A piece cut on the fold: its right half drawn (fold on x = 0), with a mirror line (layer
+    6) along the fold, a notch, a turn point, a grain line and an internal line."""
+    half = [(0, 0), (150, 0), (160, 300), (40, 320), (0, 300)]
+    b = g(0, "BLOCK") + g(8, 0) + g(2, "YOKE_M") + g(70, 64) + g(10, 0) + g(20, 0)
+    b += text(1, 50, 150, "Piece Name: YOKE") + text(1, 50, 140, "Size: M")
+    b += polyline(1, half, closed=True)
+    b += point(4, 150, 0) + point(2, 160, 300)
+    b += line(6, (0, 0), (0, 300))
+    b += line(7, (80, 50), (80, 250))
+    b += polyline(8, [(30, 100), (120, 100)])
+    b += g(0, "ENDBLK") + g(8, 0)
+    ents = g(0, "INSERT") + g(8, 1) + g(2, "YOKE_M") + g(10, 0) + g(20, 0)
+    ents += text(1, 0, 0, "Sample Size: M") + text(1, 0, 0, "Units: METRIC")
+    out = g(0, "SECTION") + g(2, "HEADER") + g(0, "ENDSEC")
+    out += g(0, "SECTION") + g(2, "BLOCKS") + b + g(0, "ENDSEC")
+    out += g(0, "SECTION") + g(2, "ENTITIES") + ents + g(0, "ENDSEC") + g(0, "EOF")
+    open("synthetic_fold.dxf", "w", newline="\r\n").write(out)
+
+
 aama()
 plain()
 attrib()
+fold()
 print("front M perimeter mm:", 200 + 300 + 300 + 125 * 4 * math.atan(0.5))

@@ -59,6 +59,15 @@ def test_dxf_import_info_round_trip(tmp_path):
     assert len(info["pieces"]) >= 2
 
 
+def test_a_piece_cut_on_the_fold_imports_whole_unless_no_unfold(tmp_path):
+    # `dxf/synthetic_fold.dxf`: a half drawn with a mirror line along its fold.
+    dxf = DATA / "dxf/synthetic_fold.dxf"
+    whole = import_and_describe(dxf, tmp_path / "whole.json", "--edge", "0.03")["pieces"][0]
+    drawn = import_and_describe(dxf, tmp_path / "drawn.json", "--edge", "0.03", "--no-unfold")["pieces"][0]
+    assert whole["vertices"] > drawn["vertices"]
+    assert whole["outline_length_m"] > drawn["outline_length_m"] + 0.2
+
+
 def test_bad_files_fail_with_the_file_named(tmp_path):
     missing = tmp_path / "missing.dxf"
     r = run("import", missing, "-o", tmp_path / "x.json")

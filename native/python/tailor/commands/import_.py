@@ -18,6 +18,9 @@ def register(sub):
     p.add_argument("--edge", type=float, default=0.01, metavar="METRES", help="target edge length (default 0.01)")
     p.add_argument("--size", default=None, help="size to import from a graded pattern (default: the sample size)")
     p.add_argument("--units", default=None, help="override the file's units (mm, cm, m, inch, ...)")
+    p.add_argument("--no-unfold", dest="unfold", action="store_false",
+                   help="keep a DXF piece drawn as a half cut on the fold (a mirror line along its edge) as drawn "
+                        "(default: mirrored into the whole piece)")
     p.add_argument("-o", "--output", required=True, metavar="GARMENT_FILE", help="garment file to write (.json)")
     p.set_defaults(run=run)
 
@@ -29,7 +32,8 @@ def run(args) -> int:
     # and their folder must take them (Garment.save also refuses to replace a .bin it did not write).
     tailor.check_outputs([("PATTERN_FILE", args.pattern)],
                          [("-o", args.output), ("-o's sidecar", tailor.sidecar_path(args.output))])
-    garment = tailor.Garment.from_pattern(args.pattern, edge=args.edge, size=args.size, units=args.units)
+    garment = tailor.Garment.from_pattern(args.pattern, edge=args.edge, size=args.size, units=args.units,
+                                          unfold=args.unfold)
     garment.save(args.output)
     for warning in garment.warnings:
         print(f"tailor import: warning: {warning}", file=sys.stderr)

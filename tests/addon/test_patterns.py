@@ -52,6 +52,15 @@ def test_import_every_test_pattern(scene, addon, path):
     assert sg.num_particles == sum(len(m.rest) for m in g.meshes())
 
 
+def test_unfold_halves_imports_a_piece_cut_on_the_fold_whole_or_as_drawn(scene, addon):
+    fold = DATA / "dxf/synthetic_fold.dxf"
+    whole = import_pattern(fold, edge_length=0.03)[0]
+    drawn = import_pattern(fold, edge_length=0.03, use_unfold=False)[0]
+    assert len(whole.data.vertices) > len(drawn.data.vertices)
+    xs = [v.co.x for v in whole.data.vertices]
+    assert min(xs) == pytest.approx(-max(xs), abs=1e-6)  # mirrored about the fold
+
+
 def test_import_menu_entry_and_bad_file_changes_nothing(scene, addon, tmp_path):
     draw_funcs = bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
     assert any(getattr(f, "__module__", "").startswith(MODULE) for f in draw_funcs)

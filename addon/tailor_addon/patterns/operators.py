@@ -81,6 +81,12 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
     use_stitches: BoolProperty(
         name="Stitches as Seams", description="Turn the file's stitches into seams (GarmentCode)", default=True
     )
+    use_unfold: BoolProperty(
+        name="Unfold Halves",
+        description="A DXF piece drawn as a half with a mirror line along its fold (cut on the fold) becomes the "
+                    "whole piece; off, it stays as drawn",
+        default=True,
+    )
 
     @reports_errors("Importing the pattern")
     def execute(self, context):
@@ -89,7 +95,8 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
             raise AddonError(f"no pattern file at '{path}'", "Choose an existing .dxf, .svg or .json file")
         # Everything is computed before the scene is touched: an error leaves it unchanged.
         g = tailor.Garment.from_pattern(
-            path, edge=self.edge_length, size=self.size or None, units=None if self.units == "AUTO" else self.units
+            path, edge=self.edge_length, size=self.size or None, units=None if self.units == "AUTO" else self.units,
+            unfold=self.use_unfold,
         )
         pieces, meshes = g.pieces, g.meshes()
         arrays = [mesh_arrays(m) for m in meshes]

@@ -148,3 +148,13 @@ def test_an_anisotropic_fabric_is_simulated_by_direction(tmp_path):
     assert tailor.Garment.load(str(path)).setup["fabrics"][0]["stretch_v"] == 80.0
     with pytest.raises(tailor.InvalidParameterError, match="stretch_v"):
         hang(tailor.Fabric(0.2, 20.0, 20.0, 1e-7, stretch_v=-1.0))
+
+
+def test_a_fabrics_directions_are_the_solvers():
+    """`Fabric.directions()`: the stiffness in each direction as the core takes it (v as u, the
+    bias the mean of u's and v's bending, unless given)."""
+    d = tailor.Fabric(0.2, 100.0, 10.0, 1e-5, bend_v=3e-5).directions()
+    assert d["stretch_u"] == d["stretch_v"] == 100.0
+    assert d["bend_u"] == pytest.approx(1e-5) and d["bend_v"] == pytest.approx(3e-5)
+    assert d["bend_bias"] == pytest.approx(2e-5)
+    assert tailor.Fabric(bend_bias=4e-5).directions()["bend_bias"] == pytest.approx(4e-5)

@@ -58,16 +58,14 @@ def piece_values(piece) -> dict[str, float | None]:
 
 def set_piece_fabric(piece, values: dict[str, float | None]) -> None:
     """Sets a piece's settings to `values` (`fabric_values`' shape): *Anisotropic* where any
-    direction is given, a missing one taking the module's rule (v as u, the bias their mean)."""
+    direction is given, a missing one as the module takes it (`tailor.Fabric.directions`)."""
     for k in FIELDS:
         setattr(piece, k, values[k])
     given = {k: values.get(k) for k in ANISOTROPIC}
     piece.anisotropic = any(v is not None for v in given.values())
     if piece.anisotropic:
-        v_stretch = given["stretch_v"] if given["stretch_v"] is not None else values["stretch"]
-        v_bend = given["bend_v"] if given["bend_v"] is not None else values["bend"]
-        bias = given["bend_bias"] if given["bend_bias"] is not None else 0.5 * (values["bend"] + v_bend)
-        piece.stretch_v, piece.bend_bias, piece.bend_v = v_stretch, bias, v_bend
+        d = tailor.Fabric(*(values[k] for k in FIELDS), **given).directions()
+        piece.stretch_v, piece.bend_bias, piece.bend_v = d["stretch_v"], d["bend_bias"], d["bend_v"]
 
 
 def matches(name: str, current: dict[str, float | None]) -> bool:

@@ -63,6 +63,8 @@ class Fabric:
         bend_bias: float | None = None,
         bend_v: float | None = None,
     ) -> None: ...
+    def directions(self) -> dict[str, float]:
+        """`stretch_u`, `stretch_v`, `bend_u`, `bend_bias`, `bend_v` as the solver takes them."""
     @staticmethod
     def named(name: str) -> Fabric:
         """The fabric library's fabric `name` as the solver's fabric."""

@@ -61,6 +61,16 @@ impl Fabric {
         })
     }
 
+    /// The stiffness in each direction as the solver takes it (the core's rule for the `None`
+    /// directions): `{"stretch_u", "stretch_v", "bend_u", "bend_bias", "bend_v"}`.
+    fn directions(&self) -> PyResult<std::collections::HashMap<&'static str, f32>> {
+        crate::errors::guard(|| {
+            let f = core::Fabric::from(self);
+            let ([su, sv], [bu, bb, bv]) = (f.stretch_uv(), f.bend_directions());
+            Ok([("stretch_u", su), ("stretch_v", sv), ("bend_u", bu), ("bend_bias", bb), ("bend_v", bv)].into())
+        })
+    }
+
     /// The fabric library's fabric `name` as the solver's fabric (`tailor.fabric_library()`
     /// lists them with their measured properties).
     #[staticmethod]

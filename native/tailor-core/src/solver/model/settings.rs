@@ -27,8 +27,8 @@ pub const DEFAULT_THICKNESS: f32 = 0.004;
 ///
 /// **Directions.** A piece's fabric axes are its pattern's: `u` along the pattern's x axis, `v`
 /// along its y axis, the bias at 45° between them (an anisotropic piece's turned so that `v`
-/// lies along its grain line: `garment::setup::fabric_grain`, `Model::set_triangle_grain`). An isotropic fabric (every `Option` `None`)
-/// behaves the same along all of them. An anisotropic one (woven and knit fabrics: the library's
+/// lies along its grain line: `garment::setup::fabric_grain`, `Model::set_triangle_grain`). An
+/// isotropic fabric (every `Option` `None`) behaves the same along all of them. An anisotropic one (woven and knit fabrics: the library's
 /// denim is 4.8 times stiffer along `v` than along `u`) gives `stretch_v`, and the bending of a
 /// hinge follows its edge's direction in the pattern (as ARCSim's measured model does: Wang et
 /// al. 2011): `bend` for an edge along `u`, `bend_bias` at 45°, `bend_v` along `v`, linear in the

@@ -5,6 +5,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "native/tailor-core/tests/data"
@@ -66,6 +68,16 @@ def test_a_piece_cut_on_the_fold_imports_whole_unless_no_unfold(tmp_path):
     drawn = import_and_describe(dxf, tmp_path / "drawn.json", "--edge", "0.03", "--no-unfold")["pieces"][0]
     assert whole["vertices"] > drawn["vertices"]
     assert whole["outline_length_m"] > drawn["outline_length_m"] + 0.2
+
+
+def test_pieces_are_cut_as_their_quantities_say_unless_no_quantities(tmp_path):
+    # `dxf/synthetic_cut.dxf`: SLEEVE cut twice, PANEL once, ALT 0 times.
+    dxf = DATA / "dxf/synthetic_cut.dxf"
+    cut = import_and_describe(dxf, tmp_path / "cut.json", "--edge", "0.03")["pieces"]
+    drawn = import_and_describe(dxf, tmp_path / "drawn.json", "--edge", "0.03", "--no-quantities")["pieces"]
+    assert [p["name"] for p in cut] == ["SLEEVE R", "SLEEVE L", "PANEL"]
+    assert [p["name"] for p in drawn] == ["SLEEVE", "PANEL", "ALT"]
+    assert cut[0]["outline_length_m"] == pytest.approx(cut[1]["outline_length_m"], rel=1e-6)
 
 
 def test_bad_files_fail_with_the_file_named(tmp_path):

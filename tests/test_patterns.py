@@ -330,6 +330,28 @@ def test_garment_gives_back_its_placements_bends_and_meshers(tmp_path):
     np.testing.assert_array_equal(g3.build_simulation()[0].positions, g4.build_simulation()[0].positions)
 
 
+def test_a_pair_is_read_as_the_piece_and_its_mirror_image():
+    """`Quantity: 2` (`dxf/synthetic_cut.dxf`'s SLEEVE) reads as the piece as drawn (`R`) and its
+    mirror image (`L`) across its bounding box's middle; `Quantity: 0` is left out;
+    `quantities=False` reads each piece once."""
+    path = str(DATA / "dxf" / "synthetic_cut.dxf")
+    pieces = tailor.read_pattern(path).pieces
+    assert [p.name for p in pieces] == ["SLEEVE R", "SLEEVE L", "PANEL"]
+    r, l = (np.asarray(p.outline) for p in pieces[:2])
+    mirrored = np.stack([r[:, 0].min() + r[:, 0].max() - r[:, 0], r[:, 1]], axis=1)
+    assert np.allclose(np.sort(l, axis=0), np.sort(mirrored, axis=0))
+    assert [p.name for p in tailor.read_pattern(path, quantities=False).pieces] == ["SLEEVE", "PANEL", "ALT"]
+    g = tailor.Garment.from_pattern(path, edge=0.03)
+    assert [p.name for p in g.pieces] == ["SLEEVE R", "SLEEVE L", "PANEL"]
+    def mesh_area(m):
+        a, b, c = (m.rest[m.triangles[:, k]] for k in range(3))
+        return 0.5 * np.abs(np.cross(b - a, c - a)).sum()
+
+    # The same cloth (the mirror's Delaunay mesh need not be the mirror of the mesh).
+    assert mesh_area(g.meshes()[0]) == pytest.approx(mesh_area(g.meshes()[1]), rel=1e-9)
+    assert len(tailor.Garment.from_pattern(path, edge=0.03, quantities=False).pieces) == 3
+
+
 def test_a_piece_cut_on_the_fold_is_read_whole_unless_asked_not_to():
     """A DXF piece drawn as a half with a mirror line (AAMA layer 6) is mirrored into the whole
     piece by `read_pattern` and `Garment.from_pattern`; `unfold=False` reads it as drawn."""

@@ -61,6 +61,15 @@ def test_unfold_halves_imports_a_piece_cut_on_the_fold_whole_or_as_drawn(scene, 
     assert min(xs) == pytest.approx(-max(xs), abs=1e-6)  # mirrored about the fold
 
 
+def test_cut_quantities_imports_a_pair_as_two_mirrored_pieces_or_each_piece_once(scene, addon):
+    path = DATA / "dxf/synthetic_cut.dxf"
+    cut = {o.name: o for o in import_pattern(path, edge_length=0.03)}
+    assert sorted(cut) == ["PANEL", "SLEEVE L", "SLEEVE R"]
+    assert cut["SLEEVE L"].dimensions.x == pytest.approx(cut["SLEEVE R"].dimensions.x, abs=1e-6)
+    drawn = import_pattern(path, edge_length=0.03, use_quantities=False)
+    assert sorted(o.name.split(".")[0] for o in drawn) == ["ALT", "PANEL", "SLEEVE"]
+
+
 def test_import_menu_entry_and_bad_file_changes_nothing(scene, addon, tmp_path):
     draw_funcs = bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
     assert any(getattr(f, "__module__", "").startswith(MODULE) for f in draw_funcs)

@@ -87,6 +87,12 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
                     "whole piece; off, it stays as drawn",
         default=True,
     )
+    use_quantities: BoolProperty(
+        name="Cut Quantities",
+        description="Import a DXF piece as many times as the file says to cut it: a pair as the piece and its "
+                    "mirror image (named R and L), a piece cut 0 times left out; off, every piece once as drawn",
+        default=True,
+    )
 
     @reports_errors("Importing the pattern")
     def execute(self, context):
@@ -96,7 +102,7 @@ class TAILOR_OT_import_pattern(bpy.types.Operator, ImportHelper):
         # Everything is computed before the scene is touched: an error leaves it unchanged.
         g = tailor.Garment.from_pattern(
             path, edge=self.edge_length, size=self.size or None, units=None if self.units == "AUTO" else self.units,
-            unfold=self.use_unfold,
+            unfold=self.use_unfold, quantities=self.use_quantities,
         )
         pieces, meshes = g.pieces, g.meshes()
         arrays = [mesh_arrays(m) for m in meshes]

@@ -446,6 +446,7 @@ class Garment:
         units: str | None = None,
         tolerance: float = 0.0005,
         unfold: bool = True,
+        quantities: bool = True,
     ) -> Garment: ...
     @staticmethod
     def from_parts(
@@ -498,9 +499,16 @@ class Garment:
     def welded(self, positions: ArrayLike | None = None, gap: float = 0.05) -> WeldedMesh: ...
 
 def read_pattern(
-    path: str, size: str | None = None, units: str | None = None, tolerance: float = 0.0005, unfold: bool = True
+    path: str,
+    size: str | None = None,
+    units: str | None = None,
+    tolerance: float = 0.0005,
+    unfold: bool = True,
+    quantities: bool = True,
 ) -> Pattern:
-    """`unfold`: a DXF piece drawn as a half with a mirror line (cut on the fold) becomes the whole piece."""
+    """`unfold`: a DXF piece drawn as a half with a mirror line (cut on the fold) becomes the whole piece.
+    `quantities`: a DXF piece is read as many times as its `Quantity:` says (a pair as the piece and its
+    mirror image, named `R` and `L`; a piece cut 0 times left out)."""
 def list_sizes(path: str) -> list[str]: ...
 def triangulate(piece: Piece, edge: float = 0.01, mesher: int | None = None) -> PieceMesh: ...
 def nearest_contour_position(mesh: PieceMesh, point: tuple[float, float]) -> int: ...

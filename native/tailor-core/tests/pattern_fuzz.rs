@@ -158,6 +158,7 @@ fn mutated_files_never_panic_or_hang() {
             units_override: None,
             tolerance_m: [5e-4, 1e-6, 0.1][rng.below(3)],
             unfold: rng.below(2) == 0,
+            quantities: rng.below(2) == 0,
         };
         if env("TAILOR_FUZZ_DUMP") == Some(case as u64) {
             std::fs::write(std::env::temp_dir().join(format!("fuzz-case-{case}-{name}")), &bytes).unwrap();

@@ -141,8 +141,8 @@ fn scan_dxf(path: &Path, size: Option<&str>) -> (Vec<(String, f64)>, f64) {
 fn check_dxf_against_scan(file: &str, pieces: usize) {
     let Some(path) = shared(&format!("astm-parser-dxf/{file}")) else { return };
     let t = std::time::Instant::now();
-    // As drawn: the scan measures the drawn boundary (a piece cut on the fold is its half).
-    let p = read_pattern(&path, &ReadOptions { unfold: false, ..Default::default() }).unwrap();
+    // As drawn: the scan measures each drawn boundary once (a piece cut on the fold is its half).
+    let p = read_pattern(&path, &ReadOptions { unfold: false, quantities: false, ..Default::default() }).unwrap();
     let took = t.elapsed();
     check_invariants(&p);
     assert_eq!(p.pieces.len(), pieces, "{file}: {:?}", p.pieces.iter().map(|x| &x.name).collect::<Vec<_>>());
@@ -202,6 +202,70 @@ fn men_classic_tee_has_seven_pieces() {
 #[test]
 fn orilegwb_is_metric_leg_and_waistband() {
     check_dxf_against_scan("ORILEGWB_AAMA.DXF", 2);
+}
+
+/// The shared files cut as their `Quantity:` says: the legging's leg twice (a left and a right
+/// leg, mirror images), its waistband once; the tee's front, back and collar rib once, the
+/// two-piece sleeve's halves twice each, and the one-piece sleeve and the collar shell (cut 0
+/// times: alternatives) left out.
+#[test]
+fn the_shared_patterns_are_cut_as_their_quantities_say() {
+    let names = |p: &Pattern| p.pieces.iter().map(|x| x.name.clone()).collect::<Vec<_>>();
+    if let Some(path) = shared("astm-parser-dxf/ORILEGWB_AAMA.DXF") {
+        let p = read(&path);
+        check_invariants(&p);
+        assert_eq!(names(&p), ["ORILEG WB WB", "ORILEG WB LL R", "ORILEG WB LL L"]);
+        let (r, l) = (&p.pieces[1], &p.pieces[2]);
+        close(outline::signed_area(&l.outline), outline::signed_area(&r.outline), 1e-12, "the pair's areas");
+        assert_eq!(r.notches.len(), l.notches.len());
+    }
+    if let Some(path) = shared("astm-parser-dxf/MEN_CLASSIC_TEE.DXF") {
+        let p = read(&path);
+        check_invariants(&p);
+        let want = [
+            "REGULAR TEEFR",
+            "REGULAR TEEBK",
+            "REGULAR TEECO",
+            "REGULAR TEESL BK R",
+            "REGULAR TEESL BK L",
+            "REGULAR TEESL FR R",
+            "REGULAR TEESL FR L",
+        ];
+        assert_eq!(names(&p), want);
+    }
+}
+
+/// Cut quantities (`synthetic_cut.dxf`): SLEEVE (`Quantity: 2`) is read as a pair, the piece as
+/// drawn and its mirror image across its bounding box's middle, notch and grain line mirrored
+/// with it; PANEL once; ALT (0) left out; the L size, whose blocks carry no quantity, is cut as
+/// the sample size's blocks say. With `quantities` off every piece is read once, as drawn.
+#[test]
+fn a_pair_is_read_as_the_piece_and_its_mirror() {
+    let path = data("dxf/synthetic_cut.dxf");
+    let names = |p: &Pattern| p.pieces.iter().map(|x| x.name.clone()).collect::<Vec<_>>();
+    for size in ["M", "L"] {
+        let p = read_pattern(&path, &ReadOptions { size: Some(size.into()), ..Default::default() }).unwrap();
+        check_invariants(&p);
+        assert_eq!(names(&p), ["SLEEVE R", "SLEEVE L", "PANEL"], "size {size}");
+    }
+    let p = read(&path);
+    let (r, l) = (&p.pieces[0], &p.pieces[1]);
+    // The mirror of x is 0.2 − x (the bounding box runs from 0 to 0.2 m).
+    let img = |q: [f64; 2]| [0.2 - q[0], q[1]];
+    for v in &r.outline {
+        assert!(l.outline.iter().any(|w| outline::dist(*w, img(*v)) < 1e-9), "{v:?} has no image");
+    }
+    close(outline::signed_area(&l.outline), outline::signed_area(&r.outline), 1e-12, "area and orientation");
+    assert_eq!(l.notches.len(), 1);
+    assert!(outline::dist(l.notches[0], img(r.notches[0])) < 1e-9);
+    let g = r.grain.unwrap();
+    let lg = l.grain.expect("the mirror keeps the grain line");
+    assert!(outline::dist(lg[0], img(g[0])) < 1e-9 && outline::dist(lg[1], img(g[1])) < 1e-9, "{lg:?}");
+    let i = l.outline.iter().position(|v| outline::dist(*v, l.notches[0]) < 1e-9).expect("the notch is a vertex");
+    assert!(l.fixed_vertices.contains(&i), "the mirrored notch is a fixed vertex");
+    let drawn = read_pattern(&path, &ReadOptions { quantities: false, ..Default::default() }).unwrap();
+    assert_eq!(names(&drawn), ["SLEEVE", "PANEL", "ALT"]);
+    assert_eq!(drawn.pieces[0].outline, r.outline);
 }
 
 #[test]

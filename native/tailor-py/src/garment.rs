@@ -74,7 +74,8 @@ impl Garment {
     /// Reads a pattern file and triangulates every piece at `edge` metres; GarmentCode
     /// placements are kept and stitches become seams.
     #[staticmethod]
-    #[pyo3(signature = (path, edge=0.01, size=None, units=None, tolerance=0.0005, unfold=true))]
+    #[pyo3(signature = (path, edge=0.01, size=None, units=None, tolerance=0.0005, unfold=true, quantities=true))]
+    #[allow(clippy::too_many_arguments)]
     fn from_pattern(
         py: Python<'_>,
         path: PathBuf,
@@ -83,9 +84,10 @@ impl Garment {
         units: Option<&str>,
         tolerance: f64,
         unfold: bool,
+        quantities: bool,
     ) -> PyResult<Self> {
         crate::errors::guard(|| {
-            let read = read_options(size, units, tolerance, unfold)?;
+            let read = read_options(size, units, tolerance, unfold, quantities)?;
             let (_, inner, meshes) =
                 py.detach(|| core::read_garment(&path, &read, &TriangulateOptions::new(edge))).map_err(to_py)?;
             Ok(Self { inner, meshes: Some(meshes), build_warnings: Vec::new() })

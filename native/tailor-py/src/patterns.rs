@@ -22,7 +22,13 @@ pub fn rows<'py, T: numpy::Element + Copy, const K: usize>(
     Ok(PyArray1::from_vec(py, flat).reshape([v.len(), K])?.into_any())
 }
 
-pub fn read_options(size: Option<String>, units: Option<&str>, tolerance: f64, unfold: bool) -> PyResult<ReadOptions> {
+pub fn read_options(
+    size: Option<String>,
+    units: Option<&str>,
+    tolerance: f64,
+    unfold: bool,
+    quantities: bool,
+) -> PyResult<ReadOptions> {
     let units_override = match units {
         None => None,
         Some(u) => Some(
@@ -30,7 +36,7 @@ pub fn read_options(size: Option<String>, units: Option<&str>, tolerance: f64, u
                 .ok_or_else(|| to_py(TailorError::setting("units", u, "must be one of mm, cm, m, inch, ft, px, pt")))?,
         ),
     };
-    Ok(ReadOptions { size, units_override, tolerance_m: tolerance, unfold })
+    Ok(ReadOptions { size, units_override, tolerance_m: tolerance, unfold, quantities })
 }
 
 pub fn placement_dict<'py>(py: Python<'py>, p: &Option<core::Placement>) -> PyResult<Option<Bound<'py, PyDict>>> {
@@ -266,9 +272,11 @@ impl PieceMesh {
 }
 
 /// Reads a DXF, SVG or GarmentCode JSON pattern (coordinates in metres). `unfold`: a DXF piece
-/// drawn as a half with a mirror line (cut on the fold) becomes the whole piece.
+/// drawn as a half with a mirror line (cut on the fold) becomes the whole piece. `quantities`: a
+/// DXF piece is read as many times as its `Quantity:` says (a pair as the piece and its mirror
+/// image named `R` and `L`, a piece cut 0 times left out).
 #[pyfunction]
-#[pyo3(signature = (path, size=None, units=None, tolerance=0.0005, unfold=true))]
+#[pyo3(signature = (path, size=None, units=None, tolerance=0.0005, unfold=true, quantities=true))]
 pub fn read_pattern(
     py: Python<'_>,
     path: PathBuf,
@@ -276,9 +284,10 @@ pub fn read_pattern(
     units: Option<&str>,
     tolerance: f64,
     unfold: bool,
+    quantities: bool,
 ) -> PyResult<Pattern> {
     crate::errors::guard(|| {
-        let options = read_options(size, units, tolerance, unfold)?;
+        let options = read_options(size, units, tolerance, unfold, quantities)?;
         let inner = py.detach(|| core::read_pattern(&path, &options)).map_err(to_py)?;
         Ok(Pattern { inner })
     })

@@ -21,6 +21,9 @@ def register(sub):
     p.add_argument("--no-unfold", dest="unfold", action="store_false",
                    help="keep a DXF piece drawn as a half cut on the fold (a mirror line along its edge) as drawn "
                         "(default: mirrored into the whole piece)")
+    p.add_argument("--no-quantities", dest="quantities", action="store_false",
+                   help="read every DXF piece once, as drawn (default: as many times as its Quantity says: a pair "
+                        "as the piece and its mirror image, named R and L; a piece cut 0 times left out)")
     p.add_argument("-o", "--output", required=True, metavar="GARMENT_FILE", help="garment file to write (.json)")
     p.set_defaults(run=run)
 
@@ -33,7 +36,7 @@ def run(args) -> int:
     tailor.check_outputs([("PATTERN_FILE", args.pattern)],
                          [("-o", args.output), ("-o's sidecar", tailor.sidecar_path(args.output))])
     garment = tailor.Garment.from_pattern(args.pattern, edge=args.edge, size=args.size, units=args.units,
-                                          unfold=args.unfold)
+                                          unfold=args.unfold, quantities=args.quantities)
     garment.save(args.output)
     for warning in garment.warnings:
         print(f"tailor import: warning: {warning}", file=sys.stderr)

@@ -4,6 +4,7 @@
 //! seams work on [`Piece`]s and know nothing of the file they came from. [`read_pattern`] picks
 //! the reader from the extension, or from the content when the extension says nothing.
 
+pub mod cut;
 pub mod dxf;
 pub mod flatten;
 pub mod garmentcode;
@@ -35,11 +36,15 @@ pub struct ReadOptions {
     /// Mirror a piece drawn as a half across its mirror line (a piece cut on the fold; AAMA
     /// layer 6) into the whole piece ([`unfold`]). Default true.
     pub unfold: bool,
+    /// Import each piece as many times as the file says to cut it (AAMA `Quantity:`): a pair
+    /// as the piece and its mirror image, a piece cut 0 times left out ([`cut`]). Default true;
+    /// false imports every piece once, as drawn.
+    pub quantities: bool,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { size: None, units_override: None, tolerance_m: 0.0005, unfold: true }
+        ReadOptions { size: None, units_override: None, tolerance_m: 0.0005, unfold: true, quantities: true }
     }
 }
 

@@ -8,6 +8,7 @@
 //! points, 5 grade reference, 9/10 stripe and
 //! plaid references, 13 drill holes, 14 sew lines, 84 validation curves. Annotation is TEXT or
 //! ATTRIB `Key: value`: `Piece Name:` and `Size:` in each block (or in ATTRIBs of its INSERT),
+//! `Quantity:` in each block (how many to cut: pairs mirrored, 0 left out, `pattern::cut`),
 //! `Units:` (ENGLISH = inches, METRIC = millimetres) and `Sample Size:` in ENTITIES. Without
 //! `Units:` or `$INSUNITS` a file is read as inches, AAMA's default ENGLISH.
 //!
@@ -26,7 +27,7 @@ use super::document::{Block, Document, Entity};
 use super::geometry::{self, describe};
 use crate::error::{Result, TailorError};
 use crate::pattern::outline::{self, dist};
-use crate::pattern::{unfold, Pattern, Piece, Point2, ReadOptions, Units};
+use crate::pattern::{cut, unfold, Pattern, Piece, Point2, ReadOptions, Units};
 
 /// Outline vertices turning by more than this are corners (fixed vertices).
 const CORNER_TURN_DEG: f64 = 30.0;
@@ -111,7 +112,7 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
             annotations(all, "sample size").and_then(|s| sizes.iter().find(|x| x.eq_ignore_ascii_case(&s)).cloned());
         Some(sample.unwrap_or_else(|| sizes[(sizes.len() - 1) / 2].clone()))
     };
-    let mut pieces = Vec::new();
+    let (mut pieces, mut quantities) = (Vec::new(), Vec::new());
     let mut budget = outline::MAX_POINTS;
     for b in doc.blocks.iter().filter(|b| is_piece(b)) {
         let bs = block_size(doc, b);
@@ -119,12 +120,27 @@ pub fn read(file: &str, doc: &Document, opts: &ReadOptions) -> Result<Pattern> {
             continue;
         }
         let name = annotations(block_notes(doc, b), "piece name").unwrap_or_else(|| b.name.clone());
+        quantities.push(quantity(doc, &name));
         pieces.push(piece(file, b, name, units.metres(), opts, &mut budget)?);
     }
     if pieces.is_empty() {
         return Err(TailorError::parse(file, "BLOCKS", "no block has a boundary on layer 1"));
     }
+    if opts.quantities {
+        pieces = cut::cut(pieces, &quantities);
+    }
     Ok(Pattern { source: file.to_string(), pieces, stitches: Vec::new(), sizes, size })
+}
+
+/// How many of the piece called `name` to cut. AccuMark writes `Quantity:` in the sample size's
+/// block only, so any size's block of the same piece says it for all.
+fn quantity(doc: &Document, name: &str) -> Option<u32> {
+    doc.blocks.iter().filter(|b| is_piece(b)).find_map(|b| {
+        let notes = || block_notes(doc, b);
+        (annotations(notes(), "piece name").as_deref() == Some(name))
+            .then(|| annotations(notes(), "quantity")?.parse::<u32>().ok())
+            .flatten()
+    })
 }
 
 fn scaled(p: Point2, s: f64) -> Point2 {

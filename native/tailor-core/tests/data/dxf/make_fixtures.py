@@ -123,8 +123,40 @@ def fold():
     open("synthetic_fold.dxf", "w", newline="\r\n").write(out)
 
 
+def cut():
+    """Cut quantities in a two-size nest (M, L): SLEEVE cut twice (an asymmetric trapezoid with a
+    notch on its left edge), PANEL once, ALT cut 0 times; AccuMark's way, `Quantity:` only in
+    the sample size's (M) blocks."""
+    shapes = {
+        "SLEEVE": [(0, 0), (200, 0), (160, 250), (20, 220)],
+        "PANEL": [(0, 0), (100, 0), (100, 100), (0, 100)],
+        "ALT": [(0, 0), (80, 0), (40, 90)],
+    }
+    quantity = {"SLEEVE": 2, "PANEL": 1, "ALT": 0}
+    b, ents = "", ""
+    for size, k in (("M", 1.0), ("L", 1.1)):
+        for name, pts in shapes.items():
+            block = f"{name}_{size}"
+            b += g(0, "BLOCK") + g(8, 0) + g(2, block) + g(70, 64) + g(10, 0) + g(20, 0)
+            b += text(1, 10, 10, f"Piece Name: {name}") + text(1, 10, 5, f"Size: {size}")
+            if size == "M":
+                b += text(1, 10, 0, f"Quantity: {quantity[name]}")
+            b += polyline(1, [(x * k, y * k) for x, y in pts], closed=True)
+            if name == "SLEEVE":
+                b += point(4, 10 * k, 110 * k)
+            b += line(7, (100 * k, 20 * k), (100 * k, 200 * k)) if name == "SLEEVE" else ""
+            b += g(0, "ENDBLK") + g(8, 0)
+            ents += g(0, "INSERT") + g(8, 1) + g(2, block) + g(10, 0) + g(20, 0)
+    ents += text(1, 0, 0, "Sample Size: M") + text(1, 0, 0, "Units: METRIC")
+    out = g(0, "SECTION") + g(2, "HEADER") + g(0, "ENDSEC")
+    out += g(0, "SECTION") + g(2, "BLOCKS") + b + g(0, "ENDSEC")
+    out += g(0, "SECTION") + g(2, "ENTITIES") + ents + g(0, "ENDSEC") + g(0, "EOF")
+    open("synthetic_cut.dxf", "w", newline="\r\n").write(out)
+
+
 aama()
 plain()
 attrib()
 fold()
+cut()
 print("front M perimeter mm:", 200 + 300 + 300 + 125 * 4 * math.atan(0.5))

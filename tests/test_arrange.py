@@ -87,6 +87,27 @@ def test_names_say_where_the_pieces_go():
         assert (s["place"], s["side"], s["around_deg"]) == want, name
 
 
+def test_a_pattern_is_read_without_its_style_name_and_a_band_goes_round(places):
+    """A drafting system's legging (as `ORILEGWB_AAMA.DXF` names it, cut as its quantities say):
+    every name starts with the style, `ORILEG WB`, which alone reads as a waistband; over the
+    pattern the style is left out, so the band goes round the waist and the legs on their legs
+    (each whole leg's middle outside), and the band, put on the waist, is 5 cm tall."""
+    band = np.array([[0, 0], [0.05, 0], [0.05, 0.87], [0, 0.87]], dtype=np.float32)
+    leg = np.array([[0, 0], [0.95, 0.1], [0.95, 0.5], [0, 0.6]], dtype=np.float32)
+    names = ["ORILEG WB WB", "ORILEG WB LL R", "ORILEG WB LL L"]
+    got = tailor.suggest_places(names, [band, leg, leg])
+    assert [(s["place"], s["along"], s["around_deg"]) for s in got] == [
+        ("waist", "shortest", 0.0), ("right_leg", "longest", 90.0), ("left_leg", "longest", -90.0)]
+    assert tailor.suggest_place(names[1], leg)["place"] == "waist"
+    placed = tailor.place_on_body(band, places["waist"], along="shortest")
+    height = placed["positions"][:, 1].max() - placed["positions"][:, 1].min()
+    assert height == pytest.approx(0.05, abs=0.005)
+    with pytest.raises(tailor.InvalidParameterError, match="shortest"):
+        tailor.place_on_body(band, places["waist"], along="sideways")
+    with pytest.raises(tailor.InvalidParameterError, match="one shape per name"):
+        tailor.suggest_places(names, [band])
+
+
 def test_bad_input_is_a_typed_error(places):
     cube_v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.float32)
     cube_t = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],

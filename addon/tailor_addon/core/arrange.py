@@ -39,7 +39,7 @@ _LABELS = {
 def place_items() -> list[tuple[str, str, str]]:
     """EnumProperty items: AUTO, then every `tailor.PLACE_NAMES` entry (its identifier is the
     module's name)."""
-    items = [(AUTO, "Auto", "The place the piece's name and shape suggest (tailor.suggest_place)")]
+    items = [(AUTO, "Auto", "The place the piece's name and shape suggest (tailor.suggest_places)")]
     for name in tailor.PLACE_NAMES:
         label, desc = _LABELS.get(name, (name.replace("_", " ").title(), f"The body's place '{name}'"))
         items.append((name, label, desc))
@@ -56,12 +56,15 @@ class ArrangedPiece:
     positions: np.ndarray
 
 
-def plan_entry(name: str, rest: np.ndarray, choice: str = AUTO) -> dict[str, Any]:
-    """Where piece `name` with rest shape `rest` goes: `tailor.suggest_place`, or with `choice`
-    (a place name) that place. A chosen place keeps the suggestion's turn round the axis (a
+def plan_entry(
+    name: str, rest: np.ndarray, choice: str = AUTO, suggested: dict[str, Any] | None = None
+) -> dict[str, Any]:
+    """Where piece `name` with rest shape `rest` goes: `suggested` (what `tailor.suggest_places`
+    said of it among the pattern's pieces; else `tailor.suggest_place` of it alone), or with
+    `choice` (a place name) that place. A chosen place keeps the suggestion's turn round the axis (a
     back half stays at the back); a chosen limb takes the piece's longest direction along it
     and no half side, a chosen torso or waist place the suggestion's side (the half's)."""
-    entry = dict(tailor.suggest_place(name, np.asarray(rest, np.float32)))
+    entry = dict(suggested if suggested is not None else tailor.suggest_place(name, np.asarray(rest, np.float32)))
     if choice and choice != AUTO and choice != entry["place"]:
         if choice not in tailor.PLACE_NAMES:
             raise AddonError(f"piece '{name}': no place '{choice}'", f"Pick one of {', '.join(tailor.PLACE_NAMES)}")
@@ -101,7 +104,8 @@ def arrange(
     AUTO) put on its place of `places` (`find_places`), `clearance` metres off the body."""
     names_of = {p["name"] for p in places}
     choices = list(choices) if choices is not None else [AUTO] * len(names)
-    plan = [plan_entry(n, r, c) for n, r, c in zip(names, rests, choices)]
+    suggested = tailor.suggest_places(list(names), [np.asarray(r, np.float32) for r in rests])
+    plan = [plan_entry(n, r, c, s) for n, r, c, s in zip(names, rests, choices, suggested)]
     for e in plan:
         if e["place"] not in names_of:
             raise AddonError(f"piece '{e['name']}': the body has no place '{e['place']}'", "Choose another place")

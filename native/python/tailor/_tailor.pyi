@@ -556,14 +556,18 @@ def place_on_body(
     min_radius: float = 0.0,
 ) -> dict[str, Any]:
     """The flat piece `rest` ((n, 2), metres) put on `place` (a `body_places` dict): its
-    vertical ("vertical") or longest ("longest"; the default on arms and legs) direction along
-    the place's axis, `side` "centre", "left" or "right" of the centre line (a half's inner edge
-    on it), turned `around_deg` about the axis, `clearance` metres off the body and rolled round
+    vertical ("vertical"), longest ("longest"; the default on arms and legs) or shortest
+    ("shortest": a band whose length goes round) direction along the place's axis, `side`
+    "centre", "left" or "right" of the centre line (a half's inner edge on it), turned `around_deg` about the axis, `clearance` metres off the body and rolled round
     the axis with the isometric bend. Returns {"positions": (n, 3), "radius", "bend"}."""
 
 def suggest_place(name: str, shape: ArrayLike) -> dict[str, Any]:
     """Where a piece called `name` with 2D `shape` goes: {"place", "side", "around_deg",
     "along"}, the keywords of `place_on_body`."""
+
+def suggest_places(names: Sequence[str], shapes: Sequence[ArrayLike]) -> list[dict[str, Any]]:
+    """`suggest_place` for every piece of a pattern, the words all the names start with (the
+    style's name, as `ORILEG WB` in `ORILEG WB LL R`) left out before the names are read."""
 
 class WeldedMesh:
     """Sewn pieces merged into one mesh (`weld`, `Garment.welded`)."""

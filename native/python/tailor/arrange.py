@@ -28,11 +28,13 @@ import tailor
 def plan_arrangement(
     garment: tailor.Garment, assign: Mapping[str, Mapping[str, Any]] | None = None
 ) -> list[dict[str, Any]]:
-    """Per piece, where it goes: ``tailor.suggest_place`` of its name and rest shape, with
-    ``assign[name]`` (any of "place", "side", "around_deg", "along", "offset") laid over it."""
+    """Per piece, where it goes: ``tailor.suggest_places`` of the pieces' names and rest shapes,
+    with ``assign[name]`` (any of "place", "side", "around_deg", "along", "offset") laid over it."""
     plan = []
-    for piece, mesh in zip(garment.pieces, garment.meshes()):
-        entry = dict(tailor.suggest_place(piece.name, mesh.rest))
+    meshes = garment.meshes()
+    suggested = tailor.suggest_places([p.name for p in garment.pieces], [m.rest for m in meshes])
+    for piece, suggestion in zip(garment.pieces, suggested):
+        entry = dict(suggestion)
         entry.update((assign or {}).get(piece.name, {}))
         entry["name"] = piece.name
         plan.append(entry)

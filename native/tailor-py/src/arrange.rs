@@ -1,4 +1,5 @@
-//! `tailor.body_places`, `tailor.place_on_body` and `tailor.suggest_place`: arrangement round
+//! `tailor.body_places`, `tailor.place_on_body`, `tailor.suggest_place` and
+//! `tailor.suggest_places`: arrangement round
 //! the body (`tailor_core::arrange`). Logic lives in the core; this file converts places to
 //! and from dicts (so that they can be kept in JSON, e.g. in a .blend) and parses the options.
 
@@ -147,6 +148,7 @@ fn along_name(a: Along) -> &'static str {
     match a {
         Along::Vertical => "vertical",
         Along::Longest => "longest",
+        Along::Shortest => "shortest",
     }
 }
 
@@ -176,8 +178,13 @@ pub fn place_on_body<'py>(
             None => defaults.along,
             Some("vertical") => Along::Vertical,
             Some("longest") => Along::Longest,
+            Some("shortest") => Along::Shortest,
             Some(other) => {
-                return Err(to_py(TailorError::setting("along", other, "expected \"vertical\" or \"longest\"")))
+                return Err(to_py(TailorError::setting(
+                    "along",
+                    other,
+                    "expected \"vertical\", \"longest\" or \"shortest\"",
+                )))
             }
         };
         let options = PlaceOptions { clearance, side: side_of(side)?, around_deg, along, offset, min_radius };
@@ -194,14 +201,38 @@ pub fn place_on_body<'py>(
 /// {"place", "side", "around_deg", "along"}, the keywords of `place_on_body`.
 #[pyfunction]
 pub fn suggest_place<'py>(py: Python<'py>, name: &str, shape: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    crate::errors::guard(|| suggestion_dict(py, &arrange::suggest(name, &points2(shape, "shape")?)))
+}
+
+fn suggestion_dict<'py>(py: Python<'py>, s: &arrange::Suggestion) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("place", s.place)?;
+    d.set_item("side", side_name(s.side))?;
+    d.set_item("around_deg", s.around_deg)?;
+    d.set_item("along", along_name(s.along))?;
+    Ok(d)
+}
+
+/// `suggest_place` for every piece of a pattern (`names[i]`, `shapes[i]`), the words all the
+/// names start with (the style's name) left out before the names are read.
+#[pyfunction]
+pub fn suggest_places<'py>(
+    py: Python<'py>,
+    names: Vec<String>,
+    shapes: Vec<Bound<'py, PyAny>>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
     crate::errors::guard(|| {
-        let s = arrange::suggest(name, &points2(shape, "shape")?);
-        let d = PyDict::new(py);
-        d.set_item("place", s.place)?;
-        d.set_item("side", side_name(s.side))?;
-        d.set_item("around_deg", s.around_deg)?;
-        d.set_item("along", along_name(s.along))?;
-        Ok(d)
+        if names.len() != shapes.len() {
+            return Err(to_py(TailorError::setting(
+                "shapes",
+                shapes.len(),
+                format!("must give one shape per name ({} names)", names.len()),
+            )));
+        }
+        let pts = shapes.iter().map(|s| points2(s, "shape")).collect::<PyResult<Vec<_>>>()?;
+        let pieces: Vec<(&str, &[[f32; 2]])> =
+            names.iter().map(String::as_str).zip(pts.iter().map(Vec::as_slice)).collect();
+        arrange::suggest_all(&pieces).iter().map(|s| suggestion_dict(py, s)).collect()
     })
 }
 
@@ -209,5 +240,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PLACE_NAMES", arrange::PLACE_NAMES.to_vec())?;
     m.add_function(wrap_pyfunction!(body_places, m)?)?;
     m.add_function(wrap_pyfunction!(place_on_body, m)?)?;
-    m.add_function(wrap_pyfunction!(suggest_place, m)?)
+    m.add_function(wrap_pyfunction!(suggest_place, m)?)?;
+    m.add_function(wrap_pyfunction!(suggest_places, m)?)
 }

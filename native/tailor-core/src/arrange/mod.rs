@@ -12,7 +12,8 @@
 //!   (torso, waist) or longest (limbs) direction runs along the place's axis, set facing the
 //!   body at its reach plus the clearance, and rolled round the axis with the isometric bend
 //!   ([`crate::bend`], `BendMode::Roll`), so that no edge changes length.
-//! * [`assign`]: which place a piece goes on, from its name and shape ([`suggest`]).
+//! * [`assign`]: which place a piece goes on, from its name and shape ([`suggest`]; over a
+//!   whole pattern, [`suggest_all`]).
 //!
 //! Patterns are read in the convention of GarmentCode (and of most drafted patterns): a piece
 //! is drawn as the body is seen from the front, its x towards the character's left and its y
@@ -25,7 +26,7 @@ mod place;
 mod reach;
 mod slices;
 
-pub use assign::{suggest, Suggestion};
+pub use assign::{suggest, suggest_all, Suggestion};
 pub use body::{body_places, BodyFrame};
 pub use place::{place_piece, Along, PlaceOptions, Placed, Side};
 pub use reach::Reach;

@@ -6,9 +6,13 @@
 //!    left, y up; see the module docs of [`super`]). The place's axis seen the same way is the 2D
 //!    direction `d₂ = (axis·left, axis·up)`. The piece's own direction along it is its y
 //!    ([`Along::Vertical`]: torso, waist) or the longer side of its bounding box
-//!    ([`Along::Longest`]: sleeves, legs), signed to agree with `d₂`; the piece turns in its
+//!    ([`Along::Longest`]: sleeves, legs) or the shorter ([`Along::Shortest`]: a waistband or a
+//!    cuff, whose length goes round the body), signed to agree with `d₂`; the piece turns in its
 //!    plane by the angle between them (0 for a torso piece; 40 degrees for a GarmentCode
-//!    sleeve drawn level on an A-pose arm). Its end nearest the root (the top of a bodice, the
+//!    sleeve drawn level on an A-pose arm). A limb's piece drawn across the limb's direction
+//!    (more than 60 degrees off it either way: a marker lays sleeves and legs along the fabric's
+//!    grain, whatever the body) could turn either way; it turns so that its wider end, the cap
+//!    of a sleeve or the top of a leg, is the root. Its end nearest the root (the top of a bodice, the
 //!    cap of a sleeve) then starts at the place's origin, `offset` further along.
 //! 2. **Set.** Across the axis, the piece's line at [`Side`] (its middle, or for a half its edge
 //!    on the centre line) goes over the place's facing, turned by `around_deg` about the axis
@@ -35,6 +39,9 @@ pub enum Along {
     Vertical,
     /// The longer side of its bounding box: sleeves, trouser legs.
     Longest,
+    /// The shorter side of its bounding box, so that its length goes round the axis: a
+    /// waistband, a cuff.
+    Shortest,
 }
 
 /// Where the piece lies across the place's centre line (the facing), seen from the front.
@@ -112,8 +119,21 @@ pub fn place_piece(rest: &[[f32; 2]], place: &Place, options: &PlaceOptions) -> 
         Along::Vertical => [0.0, 1.0],
         Along::Longest if hi[0] - lo[0] > hi[1] - lo[1] => [1.0, 0.0],
         Along::Longest => [0.0, 1.0],
+        Along::Shortest if hi[0] - lo[0] > hi[1] - lo[1] => [0.0, 1.0],
+        Along::Shortest => [1.0, 0.0],
     };
-    let sign = if a2[0] * d2[0] + a2[1] * d2[1] < 0.0 { -1.0 } else { 1.0 };
+    let agree = a2[0] * d2[0] + a2[1] * d2[1];
+    let sign = if options.along == Along::Longest && agree.abs() < 0.5 {
+        if wider_end_is_high(rest, a2) {
+            -1.0
+        } else {
+            1.0
+        }
+    } else if agree < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
     let a2 = [a2[0] * sign, a2[1] * sign];
     let turn = f64::atan2(a2[0] * d2[1] - a2[1] * d2[0], a2[0] * d2[0] + a2[1] * d2[1]);
     let (st, ct) = turn.sin_cos();
@@ -197,6 +217,28 @@ pub fn place_piece(rest: &[[f32; 2]], place: &Place, options: &PlaceOptions) -> 
     };
     bend_piece(&mut positions, rest, &bend)?;
     Ok(Placed { positions, radius, bend })
+}
+
+/// Whether the piece is wider across `dir` (a unit axis of the pattern) at its high end along
+/// `dir` than at its low end: the extents across of the points in each end's fifth.
+fn wider_end_is_high(rest: &[[f32; 2]], dir: [f64; 2]) -> bool {
+    let along = |r: &[f32; 2]| r[0] as f64 * dir[0] + r[1] as f64 * dir[1];
+    let across = |r: &[f32; 2]| -(r[0] as f64) * dir[1] + r[1] as f64 * dir[0];
+    let (lo, hi) = rest.iter().map(along).fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), a| (l.min(a), h.max(a)));
+    let fifth = 0.2 * (hi - lo);
+    let width = |near: &dyn Fn(f64) -> bool| {
+        let (l, h) = rest
+            .iter()
+            .filter(|r| near(along(r)))
+            .map(across)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), a| (l.min(a), h.max(a)));
+        if h >= l {
+            h - l
+        } else {
+            0.0
+        }
+    };
+    width(&|a| a >= hi - fifth) > width(&|a| a <= lo + fifth)
 }
 
 fn bounds(rest: &[[f32; 2]]) -> ([f64; 2], [f64; 2]) {
@@ -396,6 +438,57 @@ mod tests {
         let along = |q: [f32; 3]| dot(sub(q.map(f64::from), p.origin), p.axis);
         let (cap, cuff) = (along(placed.positions[0]), along(placed.positions[31]));
         assert!(cap.abs() < 0.01 && (cuff - 0.31).abs() < 0.01, "{cap} {cuff}");
+    }
+
+    /// A tapered leg drawn across the leg (a marker's: hem at x = 0, 0.2 m wide, top at
+    /// x = 0.9, 0.5 m wide), on either leg and either way round: its wide top goes at the hip,
+    /// whatever the leg's slight lean (the left and right legs lean opposite ways, which turned
+    /// one of a pair upside down before the wider end decided).
+    #[test]
+    fn a_leg_drawn_across_goes_wide_end_up() {
+        let taper = |flip: bool| -> Vec<[f32; 2]> {
+            let (rest, _) = grid(0.0, -0.5, 0.9, 1.0, 46, 21);
+            rest.into_iter()
+                .filter_map(|[x, y]| {
+                    let half = 0.1 + 0.15 * x / 0.9;
+                    let x = if flip { 0.9 - x } else { x };
+                    (y.abs() <= half + 1e-6).then_some([x, y])
+                })
+                .collect()
+        };
+        for name in ["left_leg", "right_leg"] {
+            let p = place(name);
+            for flip in [false, true] {
+                let rest = taper(flip);
+                let placed = place_piece(&rest, p, &PlaceOptions::for_place(p)).unwrap();
+                let along = |q: [f32; 3]| dot(sub(q.map(f64::from), p.origin), p.axis);
+                let top = if flip { 0.0 } else { 0.9 };
+                let ends = rest.iter().zip(&placed.positions).filter(|(r, _)| (r[0] - top).abs() < 1e-4);
+                let worst = ends.map(|(_, q)| along(*q).abs()).fold(0.0, f64::max);
+                assert!(worst < 0.01, "{name} flip {flip}: the wide end is {worst} m down the leg");
+            }
+        }
+    }
+
+    /// A waistband (0.05 × 0.7 m, drawn upright as a marker lays it) on the waist with
+    /// [`Along::Shortest`]: its length goes round the waist (every point at the radius, the
+    /// band 5 cm tall), not down the legs.
+    #[test]
+    fn a_band_goes_round() {
+        let p = place("waist");
+        let (rest, edges) = grid(0.0, 0.0, 0.05, 0.7, 6, 71);
+        let options = PlaceOptions { along: Along::Shortest, ..PlaceOptions::for_place(p) };
+        let placed = place_piece(&rest, p, &options).unwrap();
+        let along = |q: &[f32; 3]| dot(sub(q.map(f64::from), p.origin), p.axis);
+        let (lo, hi) = placed.positions.iter().map(along).fold((f64::MAX, f64::MIN), |(l, h), a| (l.min(a), h.max(a)));
+        assert!((hi - lo - 0.05).abs() < 1e-3, "the band spans {} m of the axis", hi - lo);
+        let worst = edges
+            .iter()
+            .map(|&e| (len3(&placed.positions, e) - len2(&rest, e)).abs() / len2(&rest, e))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-3, "an edge changed by {worst}");
+        // Round the axis: 0.7 m of arc at the radius.
+        assert!(0.7 / placed.radius > 2.0, "covers {} rad", 0.7 / placed.radius);
     }
 
     #[test]

@@ -23,6 +23,7 @@ from tailor.arrange import arrange_garment
 REPO = Path(__file__).resolve().parents[1]
 BODY = REPO / "sample_blends/sources/mean_all.obj"
 SHIRT = REPO / "native/tailor-core/tests/data/garmentcode/shirt_mean_specification.json"
+HOODY = REPO / "native/tailor-core/tests/data/garmentcode/hoody_mean_specification.json"
 FRAMES = 60  # as tests/test_assembly.py: the seams meet by frame 30, then a second on the body
 
 
@@ -53,6 +54,8 @@ def test_the_places_are_where_the_body_parts_are(places):
         assert 0.12 < arm["origin"][0] * sign < 0.30
         assert leg["axis"][1] < -0.98 and 0.04 < leg["origin"][0] * sign < 0.14
     assert front["reach"]["values"].shape[1] == 36
+    for name in ("neck", "head"):  # up from the neck's base
+        assert places[name]["axis"][1] > 0.99 and places[name]["origin"] == pytest.approx(front["origin"])
 
 
 def test_a_placed_piece_keeps_its_lengths_and_clears_the_body(body, places):
@@ -81,6 +84,8 @@ def test_names_say_where_the_pieces_go():
         "right_sleeve_b": ("right_arm", "centre", 180.0),
         "pant_b_l": ("left_leg", "centre", 180.0),
         "skirt_front": ("waist", "centre", 0.0),
+        "REGULAR TEECO": ("neck", "centre", 0.0),
+        "left_hood": ("head", "centre", 90.0),
     }
     for name, want in expect.items():
         s = tailor.suggest_place(name, square)
@@ -166,5 +171,44 @@ def test_the_shirt_arranged_automatically_assembles_on_the_body(body, places, tm
     for piece, mesh in zip(garment.pieces, garment.meshes()):
         n = len(mesh.rest)
         shift = np.linalg.norm(ours[offset:offset + n].mean(0) - theirs[offset:offset + n].mean(0))
+        assert shift < 0.05, (piece.name, shift)
+        offset += n
+
+
+def test_the_hoody_arranged_automatically_wears_its_hood_on_the_head(body, places, tmp_path):
+    """The GarmentCode hoody with its placements dropped: the hood's halves go on the head place,
+    each on its side (GarmentCode draws them seen from the side: face opening to the front, the
+    seam between them at the back), and the hoody assembles with default settings, the hood
+    ending over the head where GarmentCode's own placement puts it. Before there was a head
+    place the hood went to the torso and a seam stayed 22 cm open."""
+    garment = tailor.Garment.from_pattern(str(HOODY), edge=0.02)
+    arranged, plan = arrange_garment(garment, *body, places=list(places.values()))
+    hoods = {e["name"]: (e["place"], e["around_deg"]) for e in plan if "hood" in e["name"]}
+    assert hoods == {"left_hood": ("head", 90.0), "right_hood": ("head", -90.0)}
+    path, report, cache = tmp_path / "hoody.json", tmp_path / "report.json", tmp_path / "cloth.pc2"
+    arranged.save(str(path))
+    assert tailor.penetration(arranged.build_simulation()[0].positions, *body)["count"] == 0
+    r = cli("simulate", path, "--collider", BODY, "--frames", FRAMES, "--report", report, "-o", cache)
+    rep = json.loads(report.read_text())
+    s, last = rep["summary"], rep["frames"][-1]
+    print(f"arranged hoody: exit {r.returncode}, verdict {s['verdict']}, seam gap {last['seam_gap_max_m'] * 1e3:.2f} "
+          f"mm, inside {last['penetration_count']}, on body {last['on_body_fraction']:.2f}")
+    assert r.returncode == 0 and s["verdict"] == [], (r.returncode, s["verdict"], r.stdout[-1500:])
+    assert last["penetration_count"] == 0 and not s["nan"], last
+    assert last["seam_gap_max_m"] < 1e-3, last
+    assert last["on_body_fraction"] > 0.95, last
+    base, base_report, base_cache = tmp_path / "base.json", tmp_path / "base_report.json", tmp_path / "base.pc2"
+    garment.save(str(base))
+    assert cli("simulate", base, "--collider", BODY, "--frames", FRAMES, "--report", base_report,
+               "-o", base_cache).returncode == 0
+    ours, theirs = tailor.read_pc2(str(cache))["frames"][-1], tailor.read_pc2(str(base_cache))["frames"][-1]
+    offset = 0
+    for piece, mesh in zip(garment.pieces, garment.meshes()):
+        n = len(mesh.rest)
+        mine, its = ours[offset:offset + n], theirs[offset:offset + n]
+        shift = np.linalg.norm(mine.mean(0) - its.mean(0))
+        print(f"  {piece.name}: centroid {shift * 100:.1f} cm from GarmentCode's placement's")
+        if "hood" in piece.name:
+            assert mine[:, 1].max() > 1.65, (piece.name, mine[:, 1].max())  # over the head (its top 1.72 m)
         assert shift < 0.05, (piece.name, shift)
         offset += n

@@ -120,6 +120,6 @@ def test_show_places_finds_the_places(scene, addon):
     try:
         assert operators.last_places["collider"] == body.name
         lines = draw.place_lines(operators.last_places["places"])
-        assert len(lines) == 7 and all(segs.shape[1] == 3 for _, segs in lines)
+        assert len(lines) == 9 and all(segs.shape[1] == 3 for _, segs in lines)
     finally:
         bpy.context.window_manager.tailor_show_places = False

@@ -13,11 +13,13 @@ from ..view_draw import ViewDrawHandler
 from ..core.arrange import axis_lines
 
 
-#: Colours by place (torso, waist, arms, legs).
+#: Colours by place (torso, waist, neck and head, arms, legs).
 _COLOURS = {
     "torso_front": (1.0, 0.55, 0.1, 1.0),
     "torso_back": (1.0, 0.55, 0.1, 1.0),
     "waist": (0.9, 0.9, 0.2, 1.0),
+    "neck": (1.0, 0.4, 0.8, 1.0),
+    "head": (1.0, 0.4, 0.8, 1.0),
     "left_arm": (0.2, 0.8, 1.0, 1.0),
     "right_arm": (0.2, 0.8, 1.0, 1.0),
     "left_leg": (0.4, 1.0, 0.4, 1.0),

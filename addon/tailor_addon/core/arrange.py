@@ -29,6 +29,8 @@ _LABELS = {
     "torso_front": ("Torso Front", "The front of the torso, from the neck down"),
     "torso_back": ("Torso Back", "The back of the torso, from the neck down"),
     "waist": ("Waist", "Round the waist, from the waist down (skirts, waistbands)"),
+    "neck": ("Neck", "Round the neck, from its base up (collars)"),
+    "head": ("Head", "Over the head, from the neck's base up (hoods)"),
     "left_arm": ("Left Arm", "Along the body's left arm, from the shoulder"),
     "right_arm": ("Right Arm", "Along the body's right arm, from the shoulder"),
     "left_leg": ("Left Leg", "Along the body's left leg, from the waist"),

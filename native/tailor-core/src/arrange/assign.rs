@@ -8,7 +8,10 @@
 //! * the part: `sleeve` (or `arm`, or a drafting system's `sl`, `slv` or a word ending in `sl`,
 //!   as AccuMark's `TEESL`) → an arm; `pant`, `trouser`, `leg`, `short` → a leg; `skirt`,
 //!   `waistband`, `wb`, `waist` → the waist (a waist piece more than three times as long as wide
-//!   is a band: its length goes round the body, [`Along::Shortest`]); anything else → the torso;
+//!   is a band: its length goes round the body, [`Along::Shortest`]); `collar`, `neck`, or a
+//!   drafting system's `co` or a word ending in `co` (`TEECO`) → the neck (a band goes round
+//!   it); `hood` → the head (a half on its side of the head, turned 90 degrees from the face;
+//!   a whole hood at the back); anything else → the torso;
 //! * front or back: `front`, `f`, `fr`, a word starting `front` or `f…torso` (GarmentCode's
 //!   `ftorso`), or ending in `fr` (`TEEFR`), for the front; the same with `back`, `b`, `bk` for the
 //!   back (on a limb: its back half, turned 180 degrees round it);
@@ -25,7 +28,10 @@
 //!
 //! Over a whole pattern ([`suggest_all`]), the words every piece's name starts with are the
 //! style's name, not the part (`ORILEG WB WB`, `ORILEG WB LL R`: a legging with a waistband, its
-//! waistband and leg), and are left out before the names are read.
+//! waistband and leg), and are left out before the names are read (when what follows still names
+//! a part somewhere: `skirt_front`, `skirt_back` keep their `skirt`). Three or more panels
+//! numbered on one place with no side in their names (a gored skirt's `skirt_panel_0` …) go
+//! round it evenly in number order.
 
 use super::place::{Along, Side};
 
@@ -48,8 +54,9 @@ pub fn suggest(name: &str, shape: &[[f32; 2]]) -> Suggestion {
     suggest_words(&words(name), shape)
 }
 
-/// [`suggest`] for every piece of a pattern (name and shape), the style's name, the words all
-/// the names start with, left out (unless that would leave a piece no word).
+/// [`suggest`] for every piece of a pattern (name and shape), the style's name left out: the
+/// words all the names start with, when what follows still names a part in some piece
+/// (`ORILEG WB` before `WB` and `LL R`; not `skirt` before `front` and `back`, which is the part).
 pub fn suggest_all(pieces: &[(&str, &[[f32; 2]])]) -> Vec<Suggestion> {
     let all: Vec<Vec<String>> = pieces.iter().map(|(n, _)| words(n)).collect();
     let shortest = all.iter().map(Vec::len).min().unwrap_or(0);
@@ -57,13 +64,82 @@ pub fn suggest_all(pieces: &[(&str, &[[f32; 2]])]) -> Vec<Suggestion> {
     while all.len() >= 2 && prefix < shortest && all.iter().all(|w| w[prefix] == all[0][prefix]) {
         prefix += 1;
     }
-    if prefix == shortest {
+    if prefix == shortest || !all.iter().any(|w| w[prefix..].iter().any(|x| names_a_part(x))) {
         prefix = 0;
     }
-    all.iter().zip(pieces).map(|(w, (_, shape))| suggest_words(&w[prefix..], shape)).collect()
+    let mut out: Vec<Suggestion> =
+        all.iter().zip(pieces).map(|(w, (_, shape))| suggest_words(&w[prefix..], shape)).collect();
+    spread_numbered(&all, &mut out);
+    out
 }
 
-fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
+/// Panels numbered round one place (a gored skirt's `skirt_panel_0` … `skirt_panel_4`), their
+/// names saying no side: three or more with the same words before the number go round the axis
+/// in number order, evenly, the first in front and each next towards the character's left (as
+/// GarmentCode lays them), so that the seam between one and the next is short.
+fn spread_numbered(all: &[Vec<String>], out: &mut [Suggestion]) {
+    use std::collections::BTreeMap;
+    /// Place and the words before the number.
+    type Group<'a> = (&'a str, &'a [String]);
+    let mut groups: BTreeMap<Group, Vec<(u64, usize)>> = BTreeMap::new();
+    for (i, w) in all.iter().enumerate() {
+        let Some((last, stem)) = w.split_last() else { continue };
+        let Ok(number) = last.parse::<u64>() else { continue };
+        let c = cues(stem);
+        if c.front || c.back || c.left || c.right || out[i].side != Side::Centre || out[i].around_deg != 0.0 {
+            continue;
+        }
+        groups.entry((out[i].place, stem)).or_default().push((number, i));
+    }
+    for mut members in groups.into_values().filter(|m| m.len() >= 3) {
+        members.sort_unstable();
+        let n = members.len() as f64;
+        for (k, &(_, i)) in members.iter().enumerate() {
+            // Round the axis towards the character's left is a negative turn (`around_deg`).
+            let turn = -360.0 * k as f64 / n;
+            out[i].around_deg = if turn <= -180.0 { turn + 360.0 } else { turn };
+        }
+    }
+}
+
+fn is_sleeve(x: &str) -> bool {
+    x.contains("sleeve") || matches!(x, "arm" | "arms" | "slv") || (x.ends_with("sl") && x.len() <= 6)
+}
+
+fn is_leg(x: &str) -> bool {
+    x.starts_with("pant") || x.starts_with("trouser") || matches!(x, "leg" | "legs") || x.starts_with("short")
+}
+
+fn is_waist(x: &str) -> bool {
+    x.starts_with("skirt") || x.starts_with("waist") || x == "wb"
+}
+
+fn is_collar(x: &str) -> bool {
+    x.starts_with("collar") || x.starts_with("neck") || (x.ends_with("co") && x.len() <= 6)
+}
+
+fn is_hood(x: &str) -> bool {
+    x.starts_with("hood")
+}
+
+fn is_torso(x: &str) -> bool {
+    x.contains("torso") || x.contains("bodice")
+}
+
+/// Whether the word says which part of the body a piece is for.
+fn names_a_part(x: &str) -> bool {
+    is_sleeve(x) || is_leg(x) || is_waist(x) || is_collar(x) || is_hood(x) || is_torso(x)
+}
+
+/// What a name says of the piece's side of the body.
+struct Cues {
+    front: bool,
+    back: bool,
+    left: bool,
+    right: bool,
+}
+
+fn cues(w: &[String]) -> Cues {
     let any = |f: &dyn Fn(&str) -> bool| w.iter().any(|x| f(x));
     let front = any(&|x| {
         matches!(x, "front" | "f" | "fr" | "frt")
@@ -79,12 +155,14 @@ fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
     });
     let left = any(&|x| matches!(x, "l" | "lt") || x.starts_with("left"));
     let right = any(&|x| matches!(x, "r" | "rt") || x.starts_with("right"));
-    let sleeve =
-        any(&|x| x.contains("sleeve") || matches!(x, "arm" | "arms" | "slv") || (x.ends_with("sl") && x.len() <= 6));
-    let leg = any(&|x| {
-        x.starts_with("pant") || x.starts_with("trouser") || matches!(x, "leg" | "legs") || x.starts_with("short")
-    });
-    let waist = any(&|x| x.starts_with("skirt") || x.starts_with("waist") || x == "wb");
+    Cues { front, back, left, right }
+}
+
+fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
+    let any = |f: &dyn Fn(&str) -> bool| w.iter().any(|x| f(x));
+    let Cues { front, back, left, right } = cues(w);
+    let (sleeve, leg, waist) = (any(&is_sleeve), any(&is_leg), any(&is_waist));
+    let (collar, hood) = (any(&is_collar), any(&is_hood));
     let around_deg = if back && !front { 180.0 } else { 0.0 };
     let half = if left && !right {
         Side::Left
@@ -110,11 +188,25 @@ fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
     if leg {
         return whole_leg(limb("left_leg", "right_leg"));
     }
+    if hood {
+        // A hood's half covers its side of the head (GarmentCode draws it seen from that side),
+        // from the face to the seam at the back; a whole hood is centred at the back.
+        let around_deg = match half {
+            Side::Left => 90.0,
+            Side::Right => -90.0,
+            Side::Centre => 180.0,
+        };
+        return Suggestion { place: "head", side: Side::Centre, around_deg, along: Along::Vertical };
+    }
+    if collar {
+        let along = if band(shape) { Along::Shortest } else { Along::Vertical };
+        return Suggestion { place: "neck", side: half, around_deg, along };
+    }
     if waist {
         let along = if band(shape) { Along::Shortest } else { Along::Vertical };
         return Suggestion { place: "waist", side: half, around_deg, along };
     }
-    let named_torso = front || back || any(&|x| x.contains("torso") || x.contains("bodice"));
+    let named_torso = front || back || any(&is_torso);
     if !named_torso && long_and_narrow(shape) {
         return whole_leg(limb("left_leg", "right_leg"));
     }
@@ -186,6 +278,17 @@ mod tests {
         assert_eq!(s("leg_front_r"), ("right_leg", Side::Centre, 0.0));
     }
 
+    /// Collars go round the neck, hoods on the head.
+    #[test]
+    fn collars_and_hoods_go_up_from_the_neck() {
+        let rib = suggest("REGULAR TEECO", &[[0.0, 0.0], [0.04, 0.39]]);
+        assert_eq!((rib.place, rib.along), ("neck", Along::Shortest));
+        assert_eq!(suggest("collar_stand", &[[0.0, 0.0], [0.45, 0.05]]).place, "neck");
+        assert_eq!(s("left_hood"), ("head", Side::Centre, 90.0));
+        assert_eq!(s("right_hood"), ("head", Side::Centre, -90.0));
+        assert_eq!(s("HOOD"), ("head", Side::Centre, 180.0));
+    }
+
     /// A waist piece much longer than wide is a band, its length round the body.
     #[test]
     fn a_band_goes_round_the_waist() {
@@ -215,5 +318,14 @@ mod tests {
         assert_eq!((gc[0].side, gc[1].side), (Side::Left, Side::Right));
         let same = suggest_all(&[("SLEEVE", leg), ("SLEEVE", leg)]);
         assert_eq!(same[0].place, "left_arm", "names that are all style keep their words");
+        // A gored skirt's numbered panels go round the waist in order, from the front.
+        let names: Vec<String> = (0..5).map(|k| format!("skirt_panel_{k}")).collect();
+        let panels: Vec<(&str, &[[f32; 2]])> = names.iter().map(|n| (n.as_str(), leg)).collect();
+        let turns: Vec<f64> = suggest_all(&panels).iter().map(|s| s.around_deg).collect();
+        assert_eq!(turns, [0.0, -72.0, -144.0, 144.0, 72.0]);
+        // GarmentCode's two-panel skirt: `skirt` is the part, not a style's name.
+        let skirt = suggest_all(&[("skirt_front", leg), ("skirt_back", leg)]);
+        assert_eq!((skirt[0].place, skirt[1].place), ("waist", "waist"));
+        assert_eq!(skirt[1].around_deg, 180.0);
     }
 }

@@ -308,10 +308,22 @@ impl Parts {
         let torso_pts = self.torso_samples(s);
         let neck = at(&self.torso_axis, self.neck);
         let waist = at(&self.torso_axis, self.waist);
+        // Up from the neck's base: the neck and head, and the shoulders just under it (a collar
+        // or a hood's edge rests there).
+        let head_pts: Vec<V3> = (self.neck.saturating_sub(3)..self.torso.len())
+            .filter_map(|k| self.torso[k].map(|i| (k, i)))
+            .flat_map(|(k, i)| {
+                let keep = move |p: &&[f64; 2]| k >= self.neck || (p[0] - s.middle).abs() <= self.chest_half;
+                s.loops[k][i].points.iter().filter(keep).map(move |&p| s.world(k, p))
+            })
+            .collect();
+        let up_torso = scale(torso_dir, -1.0);
         let mut places = vec![
             make_place(s, "torso_front", neck, torso_dir, f.front, &torso_pts),
             make_place(s, "torso_back", neck, torso_dir, scale(f.front, -1.0), &torso_pts),
             make_place(s, "waist", waist, torso_dir, f.front, &torso_pts),
+            make_place(s, "neck", neck, up_torso, f.front, &head_pts),
+            make_place(s, "head", neck, up_torso, f.front, &head_pts),
         ];
         for ((origin, axis, pts), name) in self.arms.iter().zip(["left_arm", "right_arm"]) {
             let mut place = make_place(s, name, *origin, *axis, f.front, pts);
@@ -551,6 +563,15 @@ mod tests {
         assert!((0.10..0.20).contains(&front.radius), "{}", front.radius);
         let waist = by_name(&places, "waist");
         assert!((0.95..1.15).contains(&waist.origin[1]), "{waist:?}");
+        // The neck and head: up from the neck's base; in the 5 cm above it the neck, the top of
+        // the shoulders and the chin reach 11-13 cm from the axis (the neck alone 7.5 cm).
+        for name in ["neck", "head"] {
+            let p = by_name(&places, name);
+            assert!(p.axis[1] > 0.99 && p.origin == front.origin && p.facing[2] > 0.95, "{p:?}");
+            assert!((0.2..0.35).contains(&p.length), "{name}: the head is {} m tall", p.length);
+            let neck = p.reach.max_in(0.0, 0.05, -std::f64::consts::PI, std::f64::consts::PI);
+            assert!((0.06..0.14).contains(&neck), "{name}: the neck reaches {neck} m");
+        }
         for (name, side) in [("left_arm", 1.0), ("right_arm", -1.0)] {
             let arm = by_name(&places, name);
             // Out to its side and down (an A pose, about 45 degrees), from beside the chest.

@@ -5,7 +5,8 @@
 //!
 //! * [`slices`]: cross-sections of the body by planes across its up axis (exact loops).
 //! * [`body`]: the places found from the cross-sections ([`body_places`]): the torso's front
-//!   and back, the waist, each arm and each leg.
+//!   and back, the waist, the neck and the head (up from the neck's base: collars, hoods), each
+//!   arm and each leg.
 //! * [`reach`]: how far a part reaches from its place's axis, per span and sector, the
 //!   surface a piece on the place must clear.
 //! * [`place`]: a flat piece put on a place ([`place_piece`]): turned so the pattern's vertical
@@ -36,8 +37,8 @@ use serde::{Deserialize, Serialize};
 pub(crate) type V3 = [f64; 3];
 
 /// The places [`body_places`] finds, by name.
-pub const PLACE_NAMES: [&str; 7] =
-    ["torso_front", "torso_back", "waist", "left_arm", "right_arm", "left_leg", "right_leg"];
+pub const PLACE_NAMES: [&str; 9] =
+    ["torso_front", "torso_back", "waist", "neck", "head", "left_arm", "right_arm", "left_leg", "right_leg"];
 
 /// A named place on the body where pieces are arranged: an axis through a body part with how
 /// far the part reaches from it.
@@ -45,8 +46,9 @@ pub const PLACE_NAMES: [&str; 7] =
 pub struct Place {
     /// One of [`PLACE_NAMES`].
     pub name: String,
-    /// The axis's root end (the neck's base for the torso, the waist for the waist and the
-    /// legs, the shoulder for an arm): a piece's end nearest the root starts here.
+    /// The axis's root end (the neck's base for the torso, and for the neck and the head, whose
+    /// axis points up; the waist for the waist and the legs, the shoulder for an arm): a
+    /// piece's end nearest the root starts here.
     pub origin: V3,
     /// Unit direction of the axis, from the root towards the part's far end (down the torso and
     /// legs, out along an arm).

@@ -111,6 +111,14 @@ def test_a_pattern_is_read_without_its_style_name_and_a_band_goes_round(places):
         tailor.place_on_body(band, places["waist"], along="sideways")
     with pytest.raises(tailor.InvalidParameterError, match="one shape per name"):
         tailor.suggest_places(names, [band])
+    # A cuff starts where its sleeve ends; numbered panels go round the waist.
+    sleeve = np.array([[0, 0], [0.6, 0], [0.6, 0.4], [0, 0.4]], dtype=np.float32)
+    cuff = np.array([[0, 0], [0.12, 0], [0.12, 0.04], [0, 0.04]], dtype=np.float32)
+    got = tailor.suggest_places(["right_sleeve_f", "sl_right_cuff_f"], [sleeve, cuff])
+    assert got[0]["offset"] == 0.0 and got[1]["offset"] == pytest.approx(0.6)
+    assert (got[1]["place"], got[1]["along"]) == ("right_arm", "shortest")
+    panels = tailor.suggest_places([f"skirt_panel_{k}" for k in range(4)], [sleeve] * 4)
+    assert [p["around_deg"] for p in panels] == [0.0, -90.0, 180.0, 90.0]
 
 
 def test_bad_input_is_a_typed_error(places):

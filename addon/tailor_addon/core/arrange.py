@@ -72,6 +72,7 @@ def plan_entry(
             raise AddonError(f"piece '{name}': no place '{choice}'", f"Pick one of {', '.join(tailor.PLACE_NAMES)}")
         limb = choice.endswith(("_arm", "_leg"))
         entry["place"] = choice
+        entry["offset"] = 0.0
         entry["along"] = "longest" if limb else "vertical"
         if limb:
             entry["side"] = "centre"

@@ -563,11 +563,12 @@ def place_on_body(
 
 def suggest_place(name: str, shape: ArrayLike) -> dict[str, Any]:
     """Where a piece called `name` with 2D `shape` goes: {"place", "side", "around_deg",
-    "along"}, the keywords of `place_on_body`."""
+    "along", "offset"}, the keywords of `place_on_body`."""
 
 def suggest_places(names: Sequence[str], shapes: Sequence[ArrayLike]) -> list[dict[str, Any]]:
     """`suggest_place` for every piece of a pattern, the words all the names start with (the
-    style's name, as `ORILEG WB` in `ORILEG WB LL R`) left out before the names are read."""
+    style's name, as `ORILEG WB` in `ORILEG WB LL R`) left out before the names are read, numbered
+    panels spread round their place, a cuff's `offset` the length of its sleeve."""
 
 class WeldedMesh:
     """Sewn pieces merged into one mesh (`weld`, `Garment.welded`)."""

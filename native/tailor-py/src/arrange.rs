@@ -198,7 +198,7 @@ pub fn place_on_body<'py>(
 }
 
 /// Which place a piece called `name` with 2D `shape` ((n, 2) outline or rest points) goes on:
-/// {"place", "side", "around_deg", "along"}, the keywords of `place_on_body`.
+/// {"place", "side", "around_deg", "along", "offset"}, the keywords of `place_on_body`.
 #[pyfunction]
 pub fn suggest_place<'py>(py: Python<'py>, name: &str, shape: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
     crate::errors::guard(|| suggestion_dict(py, &arrange::suggest(name, &points2(shape, "shape")?)))
@@ -210,6 +210,7 @@ fn suggestion_dict<'py>(py: Python<'py>, s: &arrange::Suggestion) -> PyResult<Bo
     d.set_item("side", side_name(s.side))?;
     d.set_item("around_deg", s.around_deg)?;
     d.set_item("along", along_name(s.along))?;
+    d.set_item("offset", s.offset)?;
     Ok(d)
 }
 

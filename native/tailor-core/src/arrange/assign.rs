@@ -7,10 +7,11 @@
 //!
 //! * the part: `sleeve` (or `arm`, or a drafting system's `sl`, `slv` or a word ending in `sl`,
 //!   as AccuMark's `TEESL`) → an arm; `pant`, `trouser`, `leg`, `short` → a leg; `skirt`,
-//!   `waistband`, `wb`, `waist` → the waist (a waist piece more than three times as long as wide
-//!   is a band: its length goes round the body, [`Along::Shortest`]); `collar`, `neck`, or a
+//!   `waistband`, `wb`, `waist` → the waist (a waist piece more than 2.5 times as long as
+//!   wide is a band: its length goes round the body, [`Along::Shortest`]); `collar`, `neck`, or a
 //!   drafting system's `co` or a word ending in `co` (`TEECO`) → the neck (a band goes round
-//!   it); `hood` → the head (a half on its side of the head, turned 90 degrees from the face;
+//!   it); `cuff` → an arm (a leg with a leg's word: `pant_r_cuff`), at the end of its sleeve ([`suggest_all`]: the longest side of the
+//!   arm's other pieces), a band round it; `hood` → the head (a half on its side of the head, turned 90 degrees from the face;
 //!   a whole hood at the back); anything else → the torso;
 //! * front or back: `front`, `f`, `fr`, a word starting `front` or `f…torso` (GarmentCode's
 //!   `ftorso`), or ending in `fr` (`TEEFR`), for the front; the same with `back`, `b`, `bk` for the
@@ -29,7 +30,8 @@
 //! Over a whole pattern ([`suggest_all`]), the words every piece's name starts with are the
 //! style's name, not the part (`ORILEG WB WB`, `ORILEG WB LL R`: a legging with a waistband, its
 //! waistband and leg), and are left out before the names are read (when what follows still names
-//! a part somewhere: `skirt_front`, `skirt_back` keep their `skirt`). Three or more panels
+//! a part somewhere and the first word is not a part: `skirt_front`, `skirt_back` keep their
+//! `skirt`). Three or more panels
 //! numbered on one place with no side in their names (a gored skirt's `skirt_panel_0` …) go
 //! round it evenly in number order.
 
@@ -43,6 +45,9 @@ pub struct Suggestion {
     pub side: Side,
     pub around_deg: f64,
     pub along: Along,
+    /// How far along the place's axis from its origin the piece starts, metres (a cuff at the
+    /// end of its sleeve; 0 for most pieces).
+    pub offset: f64,
 }
 
 fn words(name: &str) -> Vec<String> {
@@ -55,8 +60,9 @@ pub fn suggest(name: &str, shape: &[[f32; 2]]) -> Suggestion {
 }
 
 /// [`suggest`] for every piece of a pattern (name and shape), the style's name left out: the
-/// words all the names start with, when what follows still names a part in some piece
-/// (`ORILEG WB` before `WB` and `LL R`; not `skirt` before `front` and `back`, which is the part).
+/// words all the names start with, when the first of them is not a part and what follows still
+/// names a part in some piece (`ORILEG WB` before `WB` and `LL R`; not `skirt` before `front`
+/// and `back`, nor `pant` before `f_r` and `r_cuff_f`: there the first word is the part).
 pub fn suggest_all(pieces: &[(&str, &[[f32; 2]])]) -> Vec<Suggestion> {
     let all: Vec<Vec<String>> = pieces.iter().map(|(n, _)| words(n)).collect();
     let shortest = all.iter().map(Vec::len).min().unwrap_or(0);
@@ -64,13 +70,30 @@ pub fn suggest_all(pieces: &[(&str, &[[f32; 2]])]) -> Vec<Suggestion> {
     while all.len() >= 2 && prefix < shortest && all.iter().all(|w| w[prefix] == all[0][prefix]) {
         prefix += 1;
     }
-    if prefix == shortest || !all.iter().any(|w| w[prefix..].iter().any(|x| names_a_part(x))) {
+    let style = prefix < shortest
+        && prefix > 0
+        && !names_a_part(&all[0][0])
+        && all.iter().any(|w| w[prefix..].iter().any(|x| names_a_part(x)));
+    if !style {
         prefix = 0;
     }
     let mut out: Vec<Suggestion> =
         all.iter().zip(pieces).map(|(w, (_, shape))| suggest_words(&w[prefix..], shape)).collect();
     spread_numbered(&all, &mut out);
+    cuffs_at_the_end(&all, pieces, &mut out);
     out
+}
+
+/// A cuff starts where its sleeve ends: at the longest side of the other pieces on its arm.
+fn cuffs_at_the_end(all: &[Vec<String>], pieces: &[(&str, &[[f32; 2]])], out: &mut [Suggestion]) {
+    let cuff: Vec<bool> = all.iter().map(|w| w.iter().any(|x| is_cuff(x))).collect();
+    for i in (0..out.len()).filter(|&i| cuff[i]) {
+        let sleeve = (0..out.len())
+            .filter(|&j| !cuff[j] && out[j].place == out[i].place)
+            .map(|j| sides(pieces[j].1).0 as f64)
+            .fold(0.0, f64::max);
+        out[i].offset = sleeve;
+    }
 }
 
 /// Panels numbered round one place (a gored skirt's `skirt_panel_0` … `skirt_panel_4`), their
@@ -122,13 +145,17 @@ fn is_hood(x: &str) -> bool {
     x.starts_with("hood")
 }
 
+fn is_cuff(x: &str) -> bool {
+    x.starts_with("cuff")
+}
+
 fn is_torso(x: &str) -> bool {
     x.contains("torso") || x.contains("bodice")
 }
 
 /// Whether the word says which part of the body a piece is for.
 fn names_a_part(x: &str) -> bool {
-    is_sleeve(x) || is_leg(x) || is_waist(x) || is_collar(x) || is_hood(x) || is_torso(x)
+    is_sleeve(x) || is_leg(x) || is_waist(x) || is_collar(x) || is_hood(x) || is_torso(x) || is_cuff(x)
 }
 
 /// What a name says of the piece's side of the body.
@@ -176,12 +203,19 @@ fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
         side: Side::Centre,
         around_deg,
         along: Along::Longest,
+        offset: 0.0,
     };
     // A whole leg: its middle on the outside (the character's left of the left leg).
     let whole_leg = |s: Suggestion| {
         let outside = if s.place == "right_leg" { 90.0 } else { -90.0 };
         Suggestion { around_deg: if front || back { s.around_deg } else { outside }, ..s }
     };
+    if any(&is_cuff) {
+        // At the end of the sleeve ([`suggest_all`] sets how far), a band round the arm.
+        let along = if band(shape) { Along::Shortest } else { Along::Longest };
+        let on = if leg { limb("left_leg", "right_leg") } else { limb("left_arm", "right_arm") };
+        return Suggestion { along, ..on };
+    }
     if sleeve {
         return limb("left_arm", "right_arm");
     }
@@ -196,22 +230,22 @@ fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
             Side::Right => -90.0,
             Side::Centre => 180.0,
         };
-        return Suggestion { place: "head", side: Side::Centre, around_deg, along: Along::Vertical };
+        return Suggestion { place: "head", side: Side::Centre, around_deg, along: Along::Vertical, offset: 0.0 };
     }
     if collar {
         let along = if band(shape) { Along::Shortest } else { Along::Vertical };
-        return Suggestion { place: "neck", side: half, around_deg, along };
+        return Suggestion { place: "neck", side: half, around_deg, along, offset: 0.0 };
     }
     if waist {
         let along = if band(shape) { Along::Shortest } else { Along::Vertical };
-        return Suggestion { place: "waist", side: half, around_deg, along };
+        return Suggestion { place: "waist", side: half, around_deg, along, offset: 0.0 };
     }
     let named_torso = front || back || any(&is_torso);
     if !named_torso && long_and_narrow(shape) {
         return whole_leg(limb("left_leg", "right_leg"));
     }
     let place = if back && !front { "torso_back" } else { "torso_front" };
-    Suggestion { place, side: half, around_deg: 0.0, along: Along::Vertical }
+    Suggestion { place, side: half, around_deg: 0.0, along: Along::Vertical, offset: 0.0 }
 }
 
 /// The sides of the shape's bounding box, longer first (zero for no points).
@@ -237,7 +271,7 @@ fn long_and_narrow(shape: &[[f32; 2]]) -> bool {
 
 fn band(shape: &[[f32; 2]]) -> bool {
     let (long, short) = sides(shape);
-    long > 3.0 * short
+    long > 2.5 * short
 }
 
 #[cfg(test)]
@@ -323,6 +357,15 @@ mod tests {
         let panels: Vec<(&str, &[[f32; 2]])> = names.iter().map(|n| (n.as_str(), leg)).collect();
         let turns: Vec<f64> = suggest_all(&panels).iter().map(|s| s.around_deg).collect();
         assert_eq!(turns, [0.0, -72.0, -144.0, 144.0, 72.0]);
+        // A cuff starts at the end of its sleeve (0.6 m), a band round the arm.
+        let sleeve: &[[f32; 2]] = &[[0.0, 0.0], [0.6, 0.4]];
+        let cuff: &[[f32; 2]] = &[[0.0, 0.0], [0.12, 0.04]];
+        let got = suggest_all(&[("left_sleeve_f", sleeve), ("sl_left_cuff_f", cuff), ("right_sleeve_f", sleeve)]);
+        assert_eq!((got[1].place, got[1].along, got[1].offset), ("left_arm", Along::Shortest, sleeve[1][0] as f64));
+        assert_eq!(got[0].offset, 0.0);
+        let trousers: &[[f32; 2]] = &[[0.0, 0.0], [0.4, 1.0]];
+        let got = suggest_all(&[("pant_f_r", trousers), ("pant_r_cuff_f", cuff)]);
+        assert_eq!((got[1].place, got[1].offset), ("right_leg", 1.0));
         // GarmentCode's two-panel skirt: `skirt` is the part, not a style's name.
         let skirt = suggest_all(&[("skirt_front", leg), ("skirt_back", leg)]);
         assert_eq!((skirt[0].place, skirt[1].place), ("waist", "waist"));

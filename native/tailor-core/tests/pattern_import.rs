@@ -235,6 +235,32 @@ fn the_shared_patterns_are_cut_as_their_quantities_say() {
     }
 }
 
+/// The men's tee meshes at 2 and 3 cm with no tiny triangle: its sleeves' grain line crosses
+/// three balance lines, which mesher 2 split after refinement beside points already on them
+/// (triangles of 1e-9 m², which the solver refuses); mesher 3 cuts the lines first.
+#[test]
+fn the_tees_crossing_lines_leave_no_tiny_triangle() {
+    use tailor_core::triangulate::TriangulateOptions;
+    let Some(path) = shared("astm-parser-dxf/MEN_CLASSIC_TEE.DXF") else { return };
+    for h in [0.02, 0.03] {
+        let eq = 3f64.sqrt() / 4.0 * h * h;
+        // As the garment is built (lines that would leave a sliver dropped, with a warning).
+        let (_, _, meshes) =
+            tailor_core::garment::read_garment(&path, &ReadOptions::default(), &TriangulateOptions::new(h)).unwrap();
+        for m in &meshes {
+            let smallest = m
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| m.rest[i as usize].map(f64::from));
+                    0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs()
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(smallest > 1e-3 * eq, "{} at {h}: a triangle of {smallest:.2e} m²", m.name);
+        }
+    }
+}
+
 /// Cut quantities (`synthetic_cut.dxf`): SLEEVE (`Quantity: 2`) is read as a pair, the piece as
 /// drawn and its mirror image across its bounding box's middle, notch and grain line mirrored
 /// with it; PANEL once; ALT (0) left out; the L size, whose blocks carry no quantity, is cut as

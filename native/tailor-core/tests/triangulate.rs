@@ -355,3 +355,43 @@ fn line_ends_a_few_micrometres_apart_are_joined_by_mesher_2() {
     let near = m1.rest.iter().filter(|r| (r[0] as f64 - 0.3).hypot(r[1] as f64 - 0.1) < 1e-4).count();
     assert_eq!(near, 2, "mesher 1 keeps the line ends as drawn");
 }
+
+/// Lines as the men's tee's sleeves draw them (`MEN_CLASSIC_TEE.DXF`, whose sleeves mesher 2
+/// left with 1e-9 m² triangles at a crossing; `pattern_import.rs` checks the file itself): a
+/// vertical line crossing three horizontal lines 9-10 mm apart, and a line ending on another's
+/// middle. Mesher 3 cuts the lines where they meet before meshing: each meeting is one vertex,
+/// and no triangle is under a thousandth of the target area.
+#[test]
+fn crossing_lines_meet_at_one_vertex_without_tiny_triangles() {
+    let mut p = notched_rectangle("sleeve");
+    p.internal_lines = vec![
+        vec![[0.05, 0.15], [0.35, 0.15]],
+        vec![[0.05, 0.16], [0.35, 0.16]],
+        vec![[0.05, 0.169], [0.35, 0.169]],
+        vec![[0.123456, 0.02], [0.123456, 0.18]],
+        // Ends on the first line's middle.
+        vec![[0.25, 0.05], [0.25, 0.15]],
+    ];
+    let eq = |h: f64| 3f64.sqrt() / 4.0 * h * h;
+    let smallest = |m: &PieceMesh| {
+        m.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| m.rest[i as usize].map(f64::from));
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    for h in [0.01, 0.02, 0.03] {
+        let m = mesh(&p, h);
+        assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+        let small = smallest(&m) / eq(h);
+        assert!(small > 1e-3, "h {h}: a triangle of {small:.1e} of the target area");
+        for c in [[0.123456, 0.15], [0.123456, 0.16], [0.123456, 0.169], [0.25, 0.15]] {
+            let near = m.rest.iter().filter(|r| (r[0] as f64 - c[0]).hypot(r[1] as f64 - c[1]) < 2e-4).count();
+            assert_eq!(near, 1, "h {h}: the meeting at {c:?}");
+        }
+        let old = triangulate_piece(&p, &TriangulateOptions { mesher: 2, ..TriangulateOptions::new(h) }).unwrap();
+        eprintln!("h {h}: smallest triangle {small:.1e} of the target area (mesher 2: {:.1e})", smallest(&old) / eq(h));
+    }
+}

@@ -20,6 +20,13 @@
 //!   legging waistband's DXF draws a box as four lines whose corners miss each other by
 //!   2.5-9 µm, which left 0.01° slivers no refinement can open (its floor is `h / 1024`).
 //!
+//! * **Cross** (mesher 3 on). Lines crossing each other (a sleeve's grain line over its
+//!   balance lines), or a line ending on another's middle, are cut where they meet, so the
+//!   meeting point is every line's end and one vertex of the mesh before refinement. Split
+//!   after refinement (mesher 2), the crossing landed a few micrometres from the points
+//!   refinement had already put on each line: the men's tee's sleeves kept triangles of
+//!   1e-9 m², which the solver refuses.
+//!
 //! Snapping alone is silent: it moves points by less than the tolerance, under a quarter of a
 //! triangle. The result is a piece whose line ends lie on the outline to rounding, which the
 //! rest of the triangulation attaches exactly.
@@ -89,6 +96,71 @@ fn join_line_ends(lines: &mut [Vec<Point2>], tol: f64) {
     for l in lines.iter_mut() {
         l.dedup_by(|b, a| dist(*a, *b) <= 1e-12);
     }
+}
+
+/// Every line cut where another crosses it or ends on it (see the module): the meeting point
+/// is computed once and becomes an end of each part, so the parts share it exactly. A meeting
+/// within `tol` of a line's own vertex uses that vertex. `origin` follows the parts.
+fn cut_at_crossings(lines: Vec<Vec<Point2>>, origin: Vec<usize>, tol: f64) -> (Vec<Vec<Point2>>, Vec<usize>) {
+    // Per line, per segment: the (parameter, point) cuts on it.
+    let mut cuts: Vec<Vec<Vec<(f64, Point2)>>> = lines.iter().map(|l| vec![Vec::new(); l.len() - 1]).collect();
+    // Snapped to a vertex of either line within `tol`, else the crossing itself.
+    let snap = |p: Point2, a: &[Point2], b: &[Point2]| -> Point2 {
+        a.iter().chain(b).copied().find(|&v| dist(v, p) <= tol).unwrap_or(p)
+    };
+    for i in 0..lines.len() {
+        for j in i + 1..lines.len() {
+            for si in 0..lines[i].len() - 1 {
+                for sj in 0..lines[j].len() - 1 {
+                    let (a, b) = (lines[i][si], lines[i][si + 1]);
+                    let (c, d) = (lines[j][sj], lines[j][sj + 1]);
+                    let Some(t) = crossing(a, b, c, d) else { continue };
+                    let p = snap([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])], &lines[i], &lines[j]);
+                    for (k, s, q0, q1) in [(i, si, a, b), (j, sj, c, d)] {
+                        // Only where the meeting point is not already this segment's end.
+                        if dist(p, q0) > tol && dist(p, q1) > tol {
+                            let len = dist(q0, q1).max(f64::MIN_POSITIVE);
+                            cuts[k][s].push((dist(q0, p) / len, p));
+                        }
+                    }
+                    // A meeting at a segment's end that is an inner vertex of the line cuts there.
+                    for (k, s, q0, q1) in [(i, si, a, b), (j, sj, c, d)] {
+                        let n = lines[k].len();
+                        if dist(p, q1) <= tol && s + 2 < n {
+                            cuts[k][s].push((1.0, q1));
+                        } else if dist(p, q0) <= tol && s > 0 {
+                            cuts[k][s].push((0.0, q0));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let (mut out, mut out_origin) = (Vec::new(), Vec::new());
+    for ((line, line_cuts), o) in lines.into_iter().zip(cuts).zip(origin) {
+        let mut part = vec![line[0]];
+        for (s, mut on) in line_cuts.into_iter().enumerate() {
+            on.sort_by(|x, y| x.0.total_cmp(&y.0));
+            for (_, p) in on {
+                if dist(*part.last().expect("a part has a point"), p) > 1e-12 {
+                    part.push(p);
+                }
+                if part.len() >= 2 {
+                    out.push(std::mem::replace(&mut part, vec![p]));
+                    out_origin.push(o);
+                }
+            }
+            let next = line[s + 1];
+            if dist(*part.last().expect("a part has a point"), next) > 1e-12 {
+                part.push(next);
+            }
+        }
+        if part.len() >= 2 {
+            out.push(part);
+            out_origin.push(o);
+        }
+    }
+    (out, out_origin)
 }
 
 /// A closed loop (outline or hole) with its pins as points.
@@ -223,6 +295,9 @@ pub(crate) fn attach_lines(piece: &Piece, options: &TriangulateOptions) -> (Piec
         let mut it = keep.iter();
         origin.retain(|_| *it.next().unwrap_or(&true));
         lines.retain(|l| l.len() >= 2);
+    }
+    if options.mesher >= 3 {
+        (lines, origin) = cut_at_crossings(lines, origin, join_tolerance(options.edge_length));
     }
     out.internal_lines = lines;
     (out, origin, warnings)

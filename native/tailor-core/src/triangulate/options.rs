@@ -35,8 +35,10 @@ pub struct TriangulateOptions {
 /// - 1: spade's Ruppert/Chew refinement only (min angles down to about 10° beside internal
 ///   lines and tiny outline features);
 /// - 2: then our own pass (`refine`) once every constraint is in, outline and hole segments
-///   split where needed, so only an input corner's own angle stays below the minimum.
-pub const MESHER_VERSION: u32 = 2;
+///   split where needed, so only an input corner's own angle stays below the minimum;
+/// - 3: internal lines cut where they cross or meet before meshing (`lines`), not split by
+///   the triangulation afterwards beside points refinement had put on them (tiny triangles).
+pub const MESHER_VERSION: u32 = 3;
 
 fn first_mesher() -> u32 {
     1

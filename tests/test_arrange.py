@@ -121,6 +121,24 @@ def test_a_pattern_is_read_without_its_style_name_and_a_band_goes_round(places):
     assert [p["around_deg"] for p in panels] == [0.0, -90.0, 180.0, 90.0]
 
 
+def test_a_bodice_laid_on_its_side_goes_up_its_grain(places):
+    """`synthetic_cut.dxf`'s PANEL has no grain line; its SLEEVE's runs up the drawing. A bodice
+    a marker laid on its side (grain along x) goes with x down the torso, its narrower end (the
+    shoulders) at the neck's base; `arrange_garment` passes each piece's grain line."""
+    pieces = tailor.read_pattern(str(REPO / "native/tailor-core/tests/data/dxf/synthetic_cut.dxf")).pieces
+    assert pieces[2].grain is None
+    (x0, y0), (x1, y1) = pieces[0].grain
+    assert (x1 - x0) == pytest.approx(0.0) and (y1 - y0) == pytest.approx(0.18)
+    bodice = np.array([[0, -0.25], [0.6, -0.18], [0.6, 0.18], [0, 0.25]], dtype=np.float32)
+    front = places["torso_front"]
+    laid = tailor.place_on_body(bodice, front, grain=(1.0, 0.0))["positions"]
+    drawn = tailor.place_on_body(bodice, front)["positions"]
+    assert np.ptp(laid[:, 1]) == pytest.approx(0.6, abs=0.01) and np.ptp(drawn[:, 1]) == pytest.approx(0.5, abs=0.01)
+    assert laid[1:3, 1].min() > laid[[0, 3], 1].max()  # the shoulders above the hem
+    with pytest.raises(tailor.InvalidParameterError, match="grain"):
+        tailor.place_on_body(bodice, front, grain=(0.0, 0.0))
+
+
 def test_bad_input_is_a_typed_error(places):
     cube_v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.float32)
     cube_t = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],

@@ -91,8 +91,9 @@ class TAILOR_OT_arrange_on_body(bpy.types.Operator):
             rests.append(rest)
         places = places_of(context.scene)
         names = [o.tailor_piece.piece_name or o.name for o in pieces]
+        grains = [core_arrange.grain_of(o.tailor_piece.piece_json) for o in pieces]
         result = core_arrange.arrange(
-            names, rests, places, [o.tailor_piece.place for o in pieces], clearance=self.clearance
+            names, rests, places, [o.tailor_piece.place for o in pieces], clearance=self.clearance, grains=grains
         )
         # Everything computed: now the scene changes.
         for o, r in zip(pieces, result):

@@ -16,7 +16,7 @@ from typing import Any, Sequence
 import numpy as np
 
 import tailor
-from tailor.arrange import place_pieces
+from tailor.arrange import grain_direction, place_pieces
 
 from .errors import AddonError
 
@@ -96,19 +96,32 @@ def find_places(vertices, triangles, body: str = "the collider", up: str = "z") 
         ) from exc
 
 
+def grain_of(piece_json: str) -> tuple[float, float] | None:
+    """The grain line's direction of a piece stored as JSON (`tailor_piece.piece_json`), None
+    when it has none or nothing is stored."""
+    if not piece_json:
+        return None
+    return grain_direction(tailor.Piece.from_json(piece_json))
+
+
 def arrange(
     names: Sequence[str],
     rests: Sequence[np.ndarray],
     places: Sequence[dict[str, Any]],
     choices: Sequence[str] | None = None,
     clearance: float = CLEARANCE,
+    grains: Sequence[tuple[float, float] | None] | None = None,
 ) -> list[ArrangedPiece]:
     """Every piece (`names[i]`, rest shape `rests[i]`, (n, 2) metres, the place `choices[i]` or
-    AUTO) put on its place of `places` (`find_places`), `clearance` metres off the body."""
+    AUTO, its grain line's direction `grains[i]` or None) put on its place of `places`
+    (`find_places`), `clearance` metres off the body."""
     names_of = {p["name"] for p in places}
     choices = list(choices) if choices is not None else [AUTO] * len(names)
     suggested = tailor.suggest_places(list(names), [np.asarray(r, np.float32) for r in rests])
     plan = [plan_entry(n, r, c, s) for n, r, c, s in zip(names, rests, choices, suggested)]
+    for e, g in zip(plan, grains or [None] * len(plan)):
+        if g is not None:
+            e["grain"] = g
     for e in plan:
         if e["place"] not in names_of:
             raise AddonError(f"piece '{e['name']}': the body has no place '{e['place']}'", "Choose another place")

@@ -360,6 +360,8 @@ class Piece:
     internal_lines: list[npt.NDArray[np.float64]]
     notches: npt.NDArray[np.float64]
     fixed_vertices: list[int]
+    #: The grain line's two ends, or None when the file has none.
+    grain: tuple[tuple[float, float], tuple[float, float]] | None
     placement: dict[str, Any] | None
     edges: list[tuple[int, int]]
     def to_json(self) -> str: ...
@@ -554,12 +556,16 @@ def place_on_body(
     along: str | None = None,
     offset: float = 0.0,
     min_radius: float = 0.0,
+    grain: tuple[float, float] | None = None,
 ) -> dict[str, Any]:
     """The flat piece `rest` ((n, 2), metres) put on `place` (a `body_places` dict): its
     vertical ("vertical"), longest ("longest"; the default on arms and legs) or shortest
     ("shortest": a band whose length goes round) direction along the place's axis, `side`
     "centre", "left" or "right" of the centre line (a half's inner edge on it), turned `around_deg` about the axis, `clearance` metres off the body and rolled round
-    the axis with the isometric bend. Returns {"positions": (n, 3), "radius", "bend"}."""
+    the axis with the isometric bend. `grain` (the piece's grain line's direction): a torso or
+    waist piece whose grain lies within 30 degrees of the pattern's x was laid on its side by a
+    marker, and goes with its x along the body, narrower end first. Returns {"positions": (n, 3),
+    "radius", "bend"}."""
 
 def suggest_place(name: str, shape: ArrayLike) -> dict[str, Any]:
     """Where a piece called `name` with 2D `shape` goes: {"place", "side", "around_deg",

@@ -28,17 +28,30 @@ import tailor
 def plan_arrangement(
     garment: tailor.Garment, assign: Mapping[str, Mapping[str, Any]] | None = None
 ) -> list[dict[str, Any]]:
-    """Per piece, where it goes: ``tailor.suggest_places`` of the pieces' names and rest shapes,
-    with ``assign[name]`` (any of "place", "side", "around_deg", "along", "offset") laid over it."""
+    """Per piece, where it goes: ``tailor.suggest_places`` of the pieces' names and rest shapes
+    and its grain line's direction (``grain``, when it has one), with ``assign[name]`` (any of
+    "place", "side", "around_deg", "along", "offset", "grain") laid over it."""
     plan = []
     meshes = garment.meshes()
     suggested = tailor.suggest_places([p.name for p in garment.pieces], [m.rest for m in meshes])
     for piece, suggestion in zip(garment.pieces, suggested):
         entry = dict(suggestion)
+        direction = grain_direction(piece)
+        if direction is not None:
+            entry["grain"] = direction
         entry.update((assign or {}).get(piece.name, {}))
         entry["name"] = piece.name
         plan.append(entry)
     return plan
+
+
+def grain_direction(piece: tailor.Piece) -> tuple[float, float] | None:
+    """The direction of ``piece``'s grain line (end minus start, pattern frame), None without
+    one: ``place_on_body``'s ``grain``, which turns a piece a marker laid on its side."""
+    if piece.grain is None:
+        return None
+    (x0, y0), (x1, y1) = piece.grain
+    return (x1 - x0, y1 - y0) if (x1 - x0, y1 - y0) != (0.0, 0.0) else None
 
 
 def _axis_of(place: str) -> str:
@@ -46,7 +59,7 @@ def _axis_of(place: str) -> str:
 
 
 def _options(entry: Mapping[str, Any]) -> dict[str, Any]:
-    keys = ("side", "around_deg", "along", "offset")
+    keys = ("side", "around_deg", "along", "offset", "grain")
     return {k: entry[k] for k in keys if k in entry}
 
 

@@ -157,7 +157,9 @@ fn along_name(a: Along) -> &'static str {
 /// (nothing stretched). Returns {"positions": (n, 3), "radius", "bend"} (the bend as
 /// `Garment.set_bend` takes it, to roll the flat piece again).
 #[pyfunction]
-#[pyo3(signature = (rest, place, clearance=0.03, side="centre", around_deg=0.0, along=None, offset=0.0, min_radius=0.0))]
+#[pyo3(signature = (
+    rest, place, clearance=0.03, side="centre", around_deg=0.0, along=None, offset=0.0, min_radius=0.0, grain=None
+))]
 #[allow(clippy::too_many_arguments)]
 pub fn place_on_body<'py>(
     py: Python<'py>,
@@ -169,6 +171,7 @@ pub fn place_on_body<'py>(
     along: Option<&str>,
     offset: f64,
     min_radius: f64,
+    grain: Option<[f64; 2]>,
 ) -> PyResult<Bound<'py, PyDict>> {
     crate::errors::guard(|| {
         let r = points2(rest, "rest")?;
@@ -187,7 +190,20 @@ pub fn place_on_body<'py>(
                 )))
             }
         };
-        let options = PlaceOptions { clearance, side: side_of(side)?, around_deg, along, offset, min_radius };
+        let grain = match grain {
+            None => None,
+            Some(g) => {
+                if !(g[0].is_finite() && g[1].is_finite() && g[0].hypot(g[1]) > 0.0) {
+                    return Err(to_py(TailorError::setting(
+                        "grain",
+                        format!("{g:?}"),
+                        "must be a non-zero 2D direction",
+                    )));
+                }
+                Some(g)
+            }
+        };
+        let options = PlaceOptions { clearance, side: side_of(side)?, around_deg, along, offset, min_radius, grain };
         let placed = arrange::place_piece(&r, &p, &options).map_err(to_py)?;
         let d = PyDict::new(py);
         d.set_item("positions", rows(py, &placed.positions)?)?;

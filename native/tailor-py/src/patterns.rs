@@ -107,6 +107,11 @@ impl Piece {
     fn fixed_vertices(&self) -> PyResult<Vec<usize>> {
         crate::errors::guard(|| Ok(self.inner.fixed_vertices.clone()))
     }
+    /// The grain line's two ends, `((x, y), (x, y))` in metres, or None when the file has none.
+    #[getter]
+    fn grain(&self) -> PyResult<Option<([f64; 2], [f64; 2])>> {
+        crate::errors::guard(|| Ok(self.inner.grain.map(|[a, b]| (a, b))))
+    }
     /// `{"translation": [x, y, z], "rotation_deg": [a, b, c], "flipped": bool}` or None.
     #[getter]
     fn placement<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {

@@ -12,7 +12,9 @@
 //!    sleeve drawn level on an A-pose arm). A limb's piece drawn across the limb's direction
 //!    (more than 60 degrees off it either way: a marker lays sleeves and legs along the fabric's
 //!    grain, whatever the body) could turn either way; it turns so that its wider end, the cap
-//!    of a sleeve or the top of a leg, is the root. Its end nearest the root (the top of a bodice, the
+//!    of a sleeve or the top of a leg, is the root. A torso or waist piece whose grain line
+//!    lies across the drawing was laid on its side the same way: its x goes along the body,
+//!    its narrower end (the shoulders, a skirt's waist) at the root. Its end nearest the root (the top of a bodice, the
 //!    cap of a sleeve) then starts at the place's origin, `offset` further along.
 //! 2. **Set.** Across the axis, the piece's line at [`Side`] (its middle, or for a half its edge
 //!    on the centre line) goes over the place's facing, turned by `around_deg` about the axis
@@ -69,6 +71,11 @@ pub struct PlaceOptions {
     /// The least radius to roll onto, metres (0: none): the larger of two halves' radii, so
     /// that the halves of a sleeve or a bodice lie on one cylinder.
     pub min_radius: f64,
+    /// The piece's grain line (a direction in its pattern frame), when it has one. A torso or
+    /// waist piece ([`Along::Vertical`]) whose grain lies within 30 degrees of the pattern's x
+    /// was laid sideways by a marker (the grain runs down the body): its x, not its y, goes
+    /// along the body, its narrower end (the shoulders, a skirt's waist) at the root.
+    pub grain: Option<[f64; 2]>,
 }
 
 impl PlaceOptions {
@@ -83,6 +90,7 @@ impl PlaceOptions {
             along: if limb { Along::Longest } else { Along::Vertical },
             offset: 0.0,
             min_radius: 0.0,
+            grain: None,
         }
     }
 }
@@ -122,8 +130,17 @@ pub fn place_piece(rest: &[[f32; 2]], place: &Place, options: &PlaceOptions) -> 
         Along::Shortest if hi[0] - lo[0] > hi[1] - lo[1] => [0.0, 1.0],
         Along::Shortest => [1.0, 0.0],
     };
+    let sideways = options.along == Along::Vertical && options.grain.is_some_and(laid_sideways);
+    let a2 = if sideways { [1.0, 0.0] } else { a2 };
     let agree = a2[0] * d2[0] + a2[1] * d2[1];
-    let sign = if options.along == Along::Longest && agree.abs() < 0.5 {
+    let sign = if sideways {
+        // The wider end (a hem) away from the root.
+        if wider_end_is_high(rest, a2) {
+            1.0
+        } else {
+            -1.0
+        }
+    } else if options.along == Along::Longest && agree.abs() < 0.5 {
         if wider_end_is_high(rest, a2) {
             -1.0
         } else {
@@ -217,6 +234,12 @@ pub fn place_piece(rest: &[[f32; 2]], place: &Place, options: &PlaceOptions) -> 
     };
     bend_piece(&mut positions, rest, &bend)?;
     Ok(Placed { positions, radius, bend })
+}
+
+/// A grain line within 30 degrees of the pattern's x (a marker's piece laid on its side).
+fn laid_sideways(grain: [f64; 2]) -> bool {
+    let n = grain[0].hypot(grain[1]);
+    n > 0.0 && grain[0].abs() / n > 30f64.to_radians().cos()
 }
 
 /// Whether the piece is wider across `dir` (a unit axis of the pattern) at its high end along
@@ -489,6 +512,43 @@ mod tests {
         assert!(worst < 1e-3, "an edge changed by {worst}");
         // Round the axis: 0.7 m of arc at the radius.
         assert!(0.7 / placed.radius > 2.0, "covers {} rad", 0.7 / placed.radius);
+    }
+
+    /// A bodice a marker laid on its side (hem at x = 0, 0.5 m wide; shoulders at x = 0.6,
+    /// 0.36 m wide; grain line along x): with its grain it goes shoulders up, 0.6 m down the
+    /// torso from the neck's base; without, as drawn (its y up: 0.5 m down). Either way round
+    /// in the drawing the same. A grain line drawn upright (or on the bias) changes nothing.
+    #[test]
+    fn a_piece_laid_on_its_side_goes_up_its_grain() {
+        let p = place("torso_front");
+        let along = |q: &[f32; 3]| dot(sub(q.map(f64::from), p.origin), p.axis);
+        let bodice = |flip: bool| -> Vec<[f32; 2]> {
+            let (rest, _) = grid(0.0, -0.25, 0.6, 0.5, 31, 26);
+            rest.into_iter()
+                .filter_map(|[x, y]| {
+                    let half = 0.25 - 0.07 * x / 0.6;
+                    (y.abs() <= half + 1e-6).then_some([if flip { 0.6 - x } else { x }, y])
+                })
+                .collect()
+        };
+        for flip in [false, true] {
+            let rest = bodice(flip);
+            let with = PlaceOptions { grain: Some([1.0, 0.0]), ..PlaceOptions::for_place(p) };
+            let placed = place_piece(&rest, p, &with).unwrap();
+            let span = placed.positions.iter().map(along).fold(f64::MIN, f64::max);
+            assert!((span - 0.6).abs() < 0.01, "flip {flip}: spans {span} m of the torso");
+            let shoulders_x = if flip { 0.0 } else { 0.6 };
+            let shoulders = rest.iter().zip(&placed.positions).filter(|(r, _)| (r[0] - shoulders_x).abs() < 1e-4);
+            let worst = shoulders.map(|(_, q)| along(q)).fold(0.0, f64::max);
+            assert!(worst < 0.01, "flip {flip}: the shoulders are {worst} m down");
+            let without = place_piece(&rest, p, &PlaceOptions::for_place(p)).unwrap();
+            let span = without.positions.iter().map(along).fold(f64::MIN, f64::max);
+            assert!((span - 0.5).abs() < 0.01, "as drawn it spans {span} m");
+            for upright in [[0.0, 1.0], [1.0, 1.0]] {
+                let o = PlaceOptions { grain: Some(upright), ..PlaceOptions::for_place(p) };
+                assert_eq!(place_piece(&rest, p, &o).unwrap().positions, without.positions);
+            }
+        }
     }
 
     #[test]

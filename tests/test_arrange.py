@@ -158,6 +158,41 @@ def test_bad_input_is_a_typed_error(places):
         tailor.place_on_body(square, places["torso_front"], clearance=-1.0)
 
 
+def assembles_where_its_own_placement_ends(garment, arranged, tmp_path, label):
+    """`arranged` (``garment`` arranged on the body) through `tailor simulate` with default
+    settings: assembled (verdict empty, seams under 1 mm, nothing inside, on the body), and each
+    piece ending within 5 cm (centroid) of where ``garment``'s own placement ends it. Returns
+    per piece its last frame's positions, arranged."""
+    path, report, cache = tmp_path / f"{label}.json", tmp_path / "report.json", tmp_path / "cloth.pc2"
+    arranged.save(str(path))
+    r = cli("simulate", path, "--collider", BODY, "--frames", FRAMES, "--report", report, "-o", cache)
+    rep = json.loads(report.read_text())
+    s, last = rep["summary"], rep["frames"][-1]
+    print(f"arranged {label}: exit {r.returncode}, verdict {s['verdict']}, seam gap "
+          f"{last['seam_gap_max_m'] * 1e3:.2f} mm, inside {last['penetration_count']}, "
+          f"on body {last['on_body_fraction']:.2f}")
+    assert r.returncode == 0 and s["verdict"] == [], (r.returncode, s["verdict"], r.stdout[-1500:])
+    assert last["penetration_count"] == 0 and not s["nan"], last
+    assert last["seam_gap_max_m"] < 1e-3, last
+    assert last["on_body_fraction"] > 0.95, last
+    # Worn as its own placement wears it: each piece ends near where that one does.
+    base, base_report, base_cache = tmp_path / "base.json", tmp_path / "base_report.json", tmp_path / "base.pc2"
+    garment.save(str(base))
+    assert cli("simulate", base, "--collider", BODY, "--frames", FRAMES, "--report", base_report,
+               "-o", base_cache).returncode == 0
+    ours, theirs = tailor.read_pc2(str(cache))["frames"][-1], tailor.read_pc2(str(base_cache))["frames"][-1]
+    offset, out = 0, {}
+    for piece, mesh in zip(garment.pieces, garment.meshes()):
+        n = len(mesh.rest)
+        mine = ours[offset:offset + n]
+        shift = np.linalg.norm(mine.mean(0) - theirs[offset:offset + n].mean(0))
+        print(f"  {piece.name}: centroid {shift * 100:.1f} cm from its own placement's")
+        assert shift < 0.05, (piece.name, shift)
+        out[piece.name] = mine
+        offset += n
+    return out
+
+
 def test_the_shirt_arranged_automatically_assembles_on_the_body(body, places, tmp_path):
     """No manual placement: the shirt's GarmentCode placements are dropped, each piece goes
     where its name says, and `tailor simulate` with default settings judges the result."""
@@ -170,35 +205,11 @@ def test_the_shirt_arranged_automatically_assembles_on_the_body(body, places, tm
         "left_sleeve_f": "left_arm", "left_sleeve_b": "left_arm",
         "right_sleeve_f": "right_arm", "right_sleeve_b": "right_arm",
     }
-    path, report, cache = tmp_path / "shirt.json", tmp_path / "report.json", tmp_path / "cloth.pc2"
-    arranged.save(str(path))
     start = arranged.build_simulation()[0].positions
     placed_by_garmentcode = garment.build_simulation()[0].positions
     assert np.linalg.norm(start - placed_by_garmentcode, axis=1).min() > 0.005  # not GarmentCode's placement
     assert tailor.penetration(start, *body)["count"] == 0
-
-    r = cli("simulate", path, "--collider", BODY, "--frames", FRAMES, "--report", report, "-o", cache)
-    rep = json.loads(report.read_text())
-    s, last = rep["summary"], rep["frames"][-1]
-    print(f"arranged shirt: exit {r.returncode}, verdict {s['verdict']}, seam gap {last['seam_gap_max_m'] * 1e3:.2f} mm, "
-          f"inside {last['penetration_count']}, on body {last['on_body_fraction']:.2f}")
-    assert r.returncode == 0 and s["verdict"] == [], (r.returncode, s["verdict"], r.stdout[-1500:])
-    assert last["penetration_count"] == 0 and not s["nan"], last
-    assert last["seam_gap_max_m"] < 1e-3, last
-    assert last["on_body_fraction"] > 0.95, last
-
-    # Worn as the GarmentCode placement wears it: each piece ends near where that one does.
-    base, base_report, base_cache = tmp_path / "base.json", tmp_path / "base_report.json", tmp_path / "base.pc2"
-    garment.save(str(base))
-    assert cli("simulate", base, "--collider", BODY, "--frames", FRAMES, "--report", base_report,
-               "-o", base_cache).returncode == 0
-    ours, theirs = tailor.read_pc2(str(cache))["frames"][-1], tailor.read_pc2(str(base_cache))["frames"][-1]
-    offset = 0
-    for piece, mesh in zip(garment.pieces, garment.meshes()):
-        n = len(mesh.rest)
-        shift = np.linalg.norm(ours[offset:offset + n].mean(0) - theirs[offset:offset + n].mean(0))
-        assert shift < 0.05, (piece.name, shift)
-        offset += n
+    assembles_where_its_own_placement_ends(garment, arranged, tmp_path, "shirt")
 
 
 def test_the_hoody_arranged_automatically_wears_its_hood_on_the_head(body, places, tmp_path):
@@ -211,30 +222,7 @@ def test_the_hoody_arranged_automatically_wears_its_hood_on_the_head(body, place
     arranged, plan = arrange_garment(garment, *body, places=list(places.values()))
     hoods = {e["name"]: (e["place"], e["around_deg"]) for e in plan if "hood" in e["name"]}
     assert hoods == {"left_hood": ("head", 90.0), "right_hood": ("head", -90.0)}
-    path, report, cache = tmp_path / "hoody.json", tmp_path / "report.json", tmp_path / "cloth.pc2"
-    arranged.save(str(path))
     assert tailor.penetration(arranged.build_simulation()[0].positions, *body)["count"] == 0
-    r = cli("simulate", path, "--collider", BODY, "--frames", FRAMES, "--report", report, "-o", cache)
-    rep = json.loads(report.read_text())
-    s, last = rep["summary"], rep["frames"][-1]
-    print(f"arranged hoody: exit {r.returncode}, verdict {s['verdict']}, seam gap {last['seam_gap_max_m'] * 1e3:.2f} "
-          f"mm, inside {last['penetration_count']}, on body {last['on_body_fraction']:.2f}")
-    assert r.returncode == 0 and s["verdict"] == [], (r.returncode, s["verdict"], r.stdout[-1500:])
-    assert last["penetration_count"] == 0 and not s["nan"], last
-    assert last["seam_gap_max_m"] < 1e-3, last
-    assert last["on_body_fraction"] > 0.95, last
-    base, base_report, base_cache = tmp_path / "base.json", tmp_path / "base_report.json", tmp_path / "base.pc2"
-    garment.save(str(base))
-    assert cli("simulate", base, "--collider", BODY, "--frames", FRAMES, "--report", base_report,
-               "-o", base_cache).returncode == 0
-    ours, theirs = tailor.read_pc2(str(cache))["frames"][-1], tailor.read_pc2(str(base_cache))["frames"][-1]
-    offset = 0
-    for piece, mesh in zip(garment.pieces, garment.meshes()):
-        n = len(mesh.rest)
-        mine, its = ours[offset:offset + n], theirs[offset:offset + n]
-        shift = np.linalg.norm(mine.mean(0) - its.mean(0))
-        print(f"  {piece.name}: centroid {shift * 100:.1f} cm from GarmentCode's placement's")
-        if "hood" in piece.name:
-            assert mine[:, 1].max() > 1.65, (piece.name, mine[:, 1].max())  # over the head (its top 1.72 m)
-        assert shift < 0.05, (piece.name, shift)
-        offset += n
+    ends = assembles_where_its_own_placement_ends(garment, arranged, tmp_path, "hoody")
+    for name in hoods:
+        assert ends[name][:, 1].max() > 1.65, (name, ends[name][:, 1].max())  # over the head (its top 1.72 m)

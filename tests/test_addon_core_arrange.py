@@ -66,8 +66,14 @@ def test_plan_entry_auto_and_chosen(shirt):
     assert e["place"] == "torso_front" and e["side"] == "left" and e["along"] == "vertical"
     e = ca.plan_entry(names[i], rests[i], "right_arm")
     assert e["place"] == "right_arm" and e["side"] == "centre" and e["along"] == "longest"
+    assert e["around_deg"] == 180.0  # a back half at the back of the arm
     with pytest.raises(AddonError, match="no place 'hand'"):
         ca.plan_entry(names[i], rests[i], "hand")
+    # The module decides the chosen place's reading: a band put on the neck goes round it.
+    rib = np.array([[0, 0], [0.04, 0], [0.04, 0.39], [0, 0.39]], np.float32)
+    assert ca.plan_entry("RIB", rib, "neck")["along"] == "shortest"
+    with pytest.raises(tailor.InvalidParameterError, match="torso_front"):
+        tailor.suggest_place("RIB", rib, place="hand")
 
 
 def test_arrange_shirt_on_z_up_body(body, shirt):

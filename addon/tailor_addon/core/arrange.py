@@ -63,19 +63,13 @@ def plan_entry(
 ) -> dict[str, Any]:
     """Where piece `name` with rest shape `rest` goes: `suggested` (what `tailor.suggest_places`
     said of it among the pattern's pieces; else `tailor.suggest_place` of it alone), or with
-    `choice` (a place name) that place. A chosen place keeps the suggestion's turn round the axis (a
-    back half stays at the back); a chosen limb takes the piece's longest direction along it
-    and no half side, a chosen torso or waist place the suggestion's side (the half's)."""
+    `choice` (a place name) that place, as `tailor.suggest_place(..., place=choice)` puts it (the
+    suggestion's turn kept, a limb's longest direction and no half side, a band's shortest)."""
     entry = dict(suggested if suggested is not None else tailor.suggest_place(name, np.asarray(rest, np.float32)))
     if choice and choice != AUTO and choice != entry["place"]:
         if choice not in tailor.PLACE_NAMES:
             raise AddonError(f"piece '{name}': no place '{choice}'", f"Pick one of {', '.join(tailor.PLACE_NAMES)}")
-        limb = choice.endswith(("_arm", "_leg"))
-        entry["place"] = choice
-        entry["offset"] = 0.0
-        entry["along"] = "longest" if limb else "vertical"
-        if limb:
-            entry["side"] = "centre"
+        entry = dict(tailor.suggest_place(name, np.asarray(rest, np.float32), place=choice))
     entry["name"] = name
     return entry
 

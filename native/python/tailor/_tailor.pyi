@@ -567,9 +567,11 @@ def place_on_body(
     marker, and goes with its x along the body, narrower end first. Returns {"positions": (n, 3),
     "radius", "bend"}."""
 
-def suggest_place(name: str, shape: ArrayLike) -> dict[str, Any]:
+def suggest_place(name: str, shape: ArrayLike, place: str | None = None) -> dict[str, Any]:
     """Where a piece called `name` with 2D `shape` goes: {"place", "side", "around_deg",
-    "along", "offset"}, the keywords of `place_on_body`."""
+    "along", "offset"}, the keywords of `place_on_body`. With `place` (the artist's choice): on
+    that place, keeping the suggestion's turn round the axis; a limb takes the longest direction
+    and no half side, a band the shortest."""
 
 def suggest_places(names: Sequence[str], shapes: Sequence[ArrayLike]) -> list[dict[str, Any]]:
     """`suggest_place` for every piece of a pattern, the words all the names start with (the

@@ -214,10 +214,24 @@ pub fn place_on_body<'py>(
 }
 
 /// Which place a piece called `name` with 2D `shape` ((n, 2) outline or rest points) goes on:
-/// {"place", "side", "around_deg", "along", "offset"}, the keywords of `place_on_body`.
+/// {"place", "side", "around_deg", "along", "offset"}, the keywords of `place_on_body`. With
+/// `place` (the artist's choice): on that place, with what of the suggestion still applies.
 #[pyfunction]
-pub fn suggest_place<'py>(py: Python<'py>, name: &str, shape: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
-    crate::errors::guard(|| suggestion_dict(py, &arrange::suggest(name, &points2(shape, "shape")?)))
+#[pyo3(signature = (name, shape, place=None))]
+pub fn suggest_place<'py>(
+    py: Python<'py>,
+    name: &str,
+    shape: &Bound<'py, PyAny>,
+    place: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    crate::errors::guard(|| {
+        let shape = points2(shape, "shape")?;
+        let s = match place {
+            None => arrange::suggest(name, &shape),
+            Some(p) => arrange::suggest_on(name, &shape, p).map_err(to_py)?,
+        };
+        suggestion_dict(py, &s)
+    })
 }
 
 fn suggestion_dict<'py>(py: Python<'py>, s: &arrange::Suggestion) -> PyResult<Bound<'py, PyDict>> {

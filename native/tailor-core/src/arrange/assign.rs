@@ -59,6 +59,45 @@ pub fn suggest(name: &str, shape: &[[f32; 2]]) -> Suggestion {
     suggest_words(&words(name), shape)
 }
 
+/// The suggestion for a piece the artist put on `place` (one of [`super::PLACE_NAMES`]): its
+/// own suggestion where that is the place, else that place read as the name reads it there (a
+/// back half at the back of a limb, the waist or the neck, turned 180 degrees; on the head a
+/// half on its side) and, on a limb, no half side and its longest direction along it;
+/// elsewhere the suggestion's side and its vertical, or for a band its shortest.
+pub fn suggest_on(name: &str, shape: &[[f32; 2]], place: &str) -> crate::error::Result<Suggestion> {
+    let s = suggest(name, shape);
+    let Some(&place) = super::PLACE_NAMES.iter().find(|&&p| p == place) else {
+        return Err(crate::error::TailorError::setting(
+            "place",
+            place,
+            format!("must be one of {}", super::PLACE_NAMES.join(", ")),
+        ));
+    };
+    if place == s.place {
+        return Ok(s);
+    }
+    let limb = place.ends_with("_arm") || place.ends_with("_leg");
+    let c = cues(&words(name));
+    let around_deg = match place {
+        "torso_front" | "torso_back" => 0.0,
+        "head" if c.left && !c.right => 90.0,
+        "head" if c.right && !c.left => -90.0,
+        "head" => 180.0,
+        _ if c.back && !c.front => 180.0,
+        _ => 0.0,
+    };
+    let along = if limb {
+        Along::Longest
+    } else if band(shape) {
+        Along::Shortest
+    } else {
+        Along::Vertical
+    };
+    let side = if limb { Side::Centre } else { s.side };
+    let side = if place == "head" { Side::Centre } else { side };
+    Ok(Suggestion { place, side, around_deg, along, offset: 0.0 })
+}
+
 /// [`suggest`] for every piece of a pattern (name and shape), the style's name left out: the
 /// words all the names start with, when the first of them is not a part and what follows still
 /// names a part in some piece (`ORILEG WB` before `WB` and `LL R`; not `skirt` before `front`
@@ -321,6 +360,23 @@ mod tests {
         assert_eq!(s("left_hood"), ("head", Side::Centre, 90.0));
         assert_eq!(s("right_hood"), ("head", Side::Centre, -90.0));
         assert_eq!(s("HOOD"), ("head", Side::Centre, 180.0));
+    }
+
+    /// A place the artist chose keeps the suggestion's turn; a limb takes the longest direction
+    /// and no side, a band its shortest; an unknown place is an error naming the places.
+    #[test]
+    fn a_chosen_place_keeps_what_still_applies() {
+        let rib = suggest_on("RIB", &[[0.0, 0.0], [0.04, 0.39]], "neck").unwrap();
+        assert_eq!((rib.place, rib.along), ("neck", Along::Shortest));
+        let half = suggest_on("left_btorso", &[[0.0, 0.0], [0.25, 0.5]], "right_arm").unwrap();
+        assert_eq!(
+            (half.place, half.side, half.around_deg, half.along),
+            ("right_arm", Side::Centre, 180.0, Along::Longest)
+        );
+        let same = suggest_on("left_btorso", &[[0.0, 0.0], [0.25, 0.5]], "torso_front").unwrap();
+        assert_eq!((same.side, same.along), (Side::Left, Along::Vertical));
+        let err = suggest_on("x", &[[0.0, 0.0], [0.25, 0.5]], "hand").unwrap_err().to_string();
+        assert!(err.contains("hand") && err.contains("torso_front"), "{err}");
     }
 
     /// A waist piece much longer than wide is a band, its length round the body.

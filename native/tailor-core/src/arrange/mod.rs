@@ -27,7 +27,7 @@ mod place;
 mod reach;
 mod slices;
 
-pub use assign::{suggest, suggest_all, Suggestion};
+pub use assign::{suggest, suggest_all, suggest_on, Suggestion};
 pub use body::{body_places, BodyFrame};
 pub use place::{place_piece, Along, PlaceOptions, Placed, Side};
 pub use reach::Reach;

@@ -10,9 +10,10 @@
 //!   `waistband`, `wb`, `waist` → the waist (a waist piece more than 2.5 times as long as
 //!   wide is a band: its length goes round the body, [`Along::Shortest`]); `collar`, `neck`, or a
 //!   drafting system's `co` or a word ending in `co` (`TEECO`) → the neck (a band goes round
-//!   it); `cuff` → an arm (a leg with a leg's word: `pant_r_cuff`), at the end of its sleeve ([`suggest_all`]: the longest side of the
-//!   arm's other pieces), a band round it; `hood` → the head (a half on its side of the head, turned 90 degrees from the face;
-//!   a whole hood at the back); anything else → the torso;
+//!   it); `cuff` → an arm (a leg with a leg's word: `pant_r_cuff`), at the end of its sleeve
+//!   ([`suggest_all`]: the longest side of the arm's other pieces), a band round it; `hood` →
+//!   the head (a half on its side of the head, turned 90 degrees from the face; a whole hood at
+//!   the back); anything else → the torso;
 //! * front or back: `front`, `f`, `fr`, a word starting `front` or `f…torso` (GarmentCode's
 //!   `ftorso`), or ending in `fr` (`TEEFR`), for the front; the same with `back`, `b`, `bk` for the
 //!   back (on a limb: its back half, turned 180 degrees round it);
@@ -31,9 +32,8 @@
 //! style's name, not the part (`ORILEG WB WB`, `ORILEG WB LL R`: a legging with a waistband, its
 //! waistband and leg), and are left out before the names are read (when what follows still names
 //! a part somewhere and the first word is not a part: `skirt_front`, `skirt_back` keep their
-//! `skirt`). Three or more panels
-//! numbered on one place with no side in their names (a gored skirt's `skirt_panel_0` …) go
-//! round it evenly in number order.
+//! `skirt`). Three or more panels numbered on one place with no side in their names (a gored
+//! skirt's `skirt_panel_0` …) go round it evenly in number order.
 
 use super::place::{Along, Side};
 
@@ -80,9 +80,7 @@ pub fn suggest_on(name: &str, shape: &[[f32; 2]], place: &str) -> crate::error::
     let c = cues(&words(name));
     let around_deg = match place {
         "torso_front" | "torso_back" => 0.0,
-        "head" if c.left && !c.right => 90.0,
-        "head" if c.right && !c.left => -90.0,
-        "head" => 180.0,
+        "head" => hood_turn(half_of(&c)),
         _ if c.back && !c.front => 180.0,
         _ => 0.0,
     };
@@ -93,8 +91,7 @@ pub fn suggest_on(name: &str, shape: &[[f32; 2]], place: &str) -> crate::error::
     } else {
         Along::Vertical
     };
-    let side = if limb { Side::Centre } else { s.side };
-    let side = if place == "head" { Side::Centre } else { side };
+    let side = if limb || place == "head" { Side::Centre } else { s.side };
     Ok(Suggestion { place, side, around_deg, along, offset: 0.0 })
 }
 
@@ -224,21 +221,35 @@ fn cues(w: &[String]) -> Cues {
     Cues { front, back, left, right }
 }
 
+/// The half of the body a name says: left, right, or neither (or both).
+fn half_of(c: &Cues) -> Side {
+    match (c.left, c.right) {
+        (true, false) => Side::Left,
+        (false, true) => Side::Right,
+        _ => Side::Centre,
+    }
+}
+
+/// A hood's turn round the head: a half covers its side of the head (GarmentCode draws it seen
+/// from that side), from the face to the seam at the back; a whole hood is centred at the back.
+fn hood_turn(half: Side) -> f64 {
+    match half {
+        Side::Left => 90.0,
+        Side::Right => -90.0,
+        Side::Centre => 180.0,
+    }
+}
+
 fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
     let any = |f: &dyn Fn(&str) -> bool| w.iter().any(|x| f(x));
-    let Cues { front, back, left, right } = cues(w);
+    let c = cues(w);
+    let (front, back) = (c.front, c.back);
     let (sleeve, leg, waist) = (any(&is_sleeve), any(&is_leg), any(&is_waist));
     let (collar, hood) = (any(&is_collar), any(&is_hood));
     let around_deg = if back && !front { 180.0 } else { 0.0 };
-    let half = if left && !right {
-        Side::Left
-    } else if right && !left {
-        Side::Right
-    } else {
-        Side::Centre
-    };
+    let half = half_of(&c);
     let limb = |l: &'static str, r: &'static str| Suggestion {
-        place: if right && !left { r } else { l },
+        place: if half == Side::Right { r } else { l },
         side: Side::Centre,
         around_deg,
         along: Along::Longest,
@@ -262,13 +273,7 @@ fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
         return whole_leg(limb("left_leg", "right_leg"));
     }
     if hood {
-        // A hood's half covers its side of the head (GarmentCode draws it seen from that side),
-        // from the face to the seam at the back; a whole hood is centred at the back.
-        let around_deg = match half {
-            Side::Left => 90.0,
-            Side::Right => -90.0,
-            Side::Centre => 180.0,
-        };
+        let around_deg = hood_turn(half);
         return Suggestion { place: "head", side: Side::Centre, around_deg, along: Along::Vertical, offset: 0.0 };
     }
     if collar {

@@ -317,13 +317,15 @@ impl Parts {
                 s.loops[k][i].points.iter().filter(keep).map(move |&p| s.world(k, p))
             })
             .collect();
-        let up_torso = scale(torso_dir, -1.0);
+        let neck_place = make_place(s, "neck", neck, scale(torso_dir, -1.0), f.front, &head_pts);
+        // The head is the same axis under another name (hoods; the artist sees which is which).
+        let head_place = Place { name: "head".into(), ..neck_place.clone() };
         let mut places = vec![
             make_place(s, "torso_front", neck, torso_dir, f.front, &torso_pts),
             make_place(s, "torso_back", neck, torso_dir, scale(f.front, -1.0), &torso_pts),
             make_place(s, "waist", waist, torso_dir, f.front, &torso_pts),
-            make_place(s, "neck", neck, up_torso, f.front, &head_pts),
-            make_place(s, "head", neck, up_torso, f.front, &head_pts),
+            neck_place,
+            head_place,
         ];
         for ((origin, axis, pts), name) in self.arms.iter().zip(["left_arm", "right_arm"]) {
             let mut place = make_place(s, name, *origin, *axis, f.front, pts);

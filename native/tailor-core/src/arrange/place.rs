@@ -14,8 +14,9 @@
 //!    grain, whatever the body) could turn either way; it turns so that its wider end, the cap
 //!    of a sleeve or the top of a leg, is the root. A torso or waist piece whose grain line
 //!    lies across the drawing was laid on its side the same way: its x goes along the body,
-//!    its narrower end (the shoulders, a skirt's waist) at the root. Its end nearest the root (the top of a bodice, the
-//!    cap of a sleeve) then starts at the place's origin, `offset` further along.
+//!    its narrower end (the shoulders, a skirt's waist) at the root. Its end nearest the root
+//!    (the top of a bodice, the cap of a sleeve) then starts at the place's origin, `offset`
+//!    further along.
 //! 2. **Set.** Across the axis, the piece's line at [`Side`] (its middle, or for a half its edge
 //!    on the centre line) goes over the place's facing, turned by `around_deg` about the axis
 //!    (180: the back of an arm); the piece lies in the plane across the facing at distance `R`
@@ -133,24 +134,11 @@ pub fn place_piece(rest: &[[f32; 2]], place: &Place, options: &PlaceOptions) -> 
     let sideways = options.along == Along::Vertical && options.grain.is_some_and(laid_sideways);
     let a2 = if sideways { [1.0, 0.0] } else { a2 };
     let agree = a2[0] * d2[0] + a2[1] * d2[1];
-    let sign = if sideways {
-        // The wider end (a hem) away from the root.
-        if wider_end_is_high(rest, a2) {
-            1.0
-        } else {
-            -1.0
-        }
-    } else if options.along == Along::Longest && agree.abs() < 0.5 {
-        if wider_end_is_high(rest, a2) {
-            -1.0
-        } else {
-            1.0
-        }
-    } else if agree < 0.0 {
-        -1.0
-    } else {
-        1.0
-    };
+    let across_limb = options.along == Along::Longest && agree.abs() < 0.5;
+    // The root is the end with the smaller coordinate along `a2 · sign`: a piece laid on its
+    // side roots its narrower end (a hem is wide), a limb's piece drawn across it its wider one.
+    let high_first = if sideways || across_limb { wider_end_is_high(rest, a2) == across_limb } else { agree < 0.0 };
+    let sign = if high_first { -1.0 } else { 1.0 };
     let a2 = [a2[0] * sign, a2[1] * sign];
     let turn = f64::atan2(a2[0] * d2[1] - a2[1] * d2[0], a2[0] * d2[0] + a2[1] * d2[1]);
     let (st, ct) = turn.sin_cos();

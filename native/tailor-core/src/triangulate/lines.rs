@@ -117,16 +117,13 @@ fn cut_at_crossings(lines: Vec<Vec<Point2>>, origin: Vec<usize>, tol: f64) -> (V
                     let Some(t) = crossing(a, b, c, d) else { continue };
                     let p = snap([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])], &lines[i], &lines[j]);
                     for (k, s, q0, q1) in [(i, si, a, b), (j, sj, c, d)] {
-                        // Only where the meeting point is not already this segment's end.
+                        // Inside the segment a new point; at its end a cut there unless that is
+                        // the line's own end.
+                        let n = lines[k].len();
                         if dist(p, q0) > tol && dist(p, q1) > tol {
                             let len = dist(q0, q1).max(f64::MIN_POSITIVE);
                             cuts[k][s].push((dist(q0, p) / len, p));
-                        }
-                    }
-                    // A meeting at a segment's end that is an inner vertex of the line cuts there.
-                    for (k, s, q0, q1) in [(i, si, a, b), (j, sj, c, d)] {
-                        let n = lines[k].len();
-                        if dist(p, q1) <= tol && s + 2 < n {
+                        } else if dist(p, q1) <= tol && s + 2 < n {
                             cuts[k][s].push((1.0, q1));
                         } else if dist(p, q0) <= tol && s > 0 {
                             cuts[k][s].push((0.0, q0));

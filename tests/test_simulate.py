@@ -599,7 +599,7 @@ def test_two_level_runs_the_skirt_on_the_hips_and_the_report_says_so(tmp_path):
         doc = json.loads(report.read_text())
         assert doc["two_level"] is expect and doc["summary"]["verdict"] == [], doc["summary"]
     assert tailor.Settings(two_level=True).two_level and not tailor.Settings().two_level
-    assert not tailor.Settings.preset("final").two_level  # opt-in: the GPU has no two-level step yet
+    assert not tailor.Settings.preset("final").two_level  # opt-in: it costs 1.2-1.5x the frame (docs/accuracy.md)
 
 
 def test_set_thickness_marks_every_mesh_of_a_usd_file_another_exporter_wrote(tmp_path):

@@ -56,7 +56,7 @@ class SimSettings:
     substeps: int = _FINAL.substeps
     iterations: int = _FINAL.iterations
     tolerance: float = _FINAL.tolerance
-    two_level: bool = False  # the two-level global step (tailor.Settings.two_level; CPU only)
+    two_level: bool = False  # the two-level global step (tailor.Settings.two_level)
     backend: str = "auto"  # auto | cpu | gpu
     threads: int | None = None  # the solver's CPU threads (None: one per core)
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)

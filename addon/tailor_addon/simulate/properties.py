@@ -87,8 +87,8 @@ class TailorSimulateSettings(bpy.types.PropertyGroup):
     two_level: BoolProperty(
         name="Two-Level Solve",
         description="After each sweep, correct the smooth part of the error on a coarse grid, so that bending and "
-        "the garment's large-scale stretch converge (stiffer, truer drape; about 1.2-1.5x the frame time). "
-        "Runs on the CPU: a GPU backend solves such frames on the CPU. Not applied while self-collision is on",
+        "the garment's large-scale stretch converge (stiffer, truer drape; about 1.2-1.5x the frame time on the "
+        "CPU; also runs on the GPU). Not applied while self-collision is on",
         default=False,
     )
     # Numbered: files saved before "Preferences" was added keep their Auto/CPU/GPU.

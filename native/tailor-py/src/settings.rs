@@ -142,8 +142,8 @@ pub struct Settings {
     /// Fixed Chebyshev spectral radius; None = measured automatically.
     pub chebyshev_rho: Option<f32>,
     pub colouring_seed: u64,
-    /// The two-level global step: a coarse-grid correction every few sweeps, so that bending
-    /// and large-scale stretch converge (CPU only; a GPU frame with it runs on the CPU).
+    /// The two-level global step: a coarse-grid correction after every sweep, so that bending
+    /// and large-scale stretch converge (on the CPU and the GPU).
     pub two_level: bool,
 }
 

@@ -147,7 +147,7 @@ def register(sub):
     p.add_argument("--iterations", type=int, help="solver iterations per substep (default: the preset's)")
     p.add_argument("--two-level", action="store_true",
                    help="the two-level global step: a coarse-grid correction after each sweep, so that bending and "
-                        "large-scale stretch converge (CPU only; docs/accuracy.md)")
+                        "large-scale stretch converge (docs/accuracy.md)")
     p.add_argument("--fabric", metavar="NAME",
                    help="every piece of this fabric from the library (tailor.fabric_library(); default: the garment "
                         "file's fabrics)")

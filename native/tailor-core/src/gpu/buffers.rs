@@ -45,6 +45,10 @@ pub struct Buffers {
     pub attach_info: wgpu::Buffer,
     /// Seam pairs' closing state (`close_seams.wgsl`), one vec4 per pair.
     pub closing: wgpu::Buffer,
+    /// The two-level step (`coarse.wgsl`): each particle's residual and contact weight, and the
+    /// coarse grid's vectors.
+    pub cres: wgpu::Buffer,
+    pub cwork: wgpu::Buffer,
     pub(super) x_backup: wgpu::Buffer,
     pub(super) v_backup: wgpu::Buffer,
     pub(super) state_backup: wgpu::Buffer,
@@ -68,6 +72,8 @@ pub(super) struct Capacities {
     pub(super) self_buckets: usize,
     pub(super) attachments: usize,
     pub(super) seam_pairs: usize,
+    /// Aggregates of the two-level step's coarse grid (0: off).
+    pub(super) coarse: usize,
 }
 
 impl Capacities {
@@ -85,6 +91,7 @@ impl Capacities {
             && need.self_buckets <= self.self_buckets
             && need.attachments <= self.attachments
             && need.seam_pairs <= self.seam_pairs
+            && need.coarse <= self.coarse
     }
 }
 
@@ -141,6 +148,9 @@ impl Buffers {
             ),
             attach_info: mk("attach_info", std::mem::size_of::<attach::AttachInfo>() as u64, U::UNIFORM | U::COPY_DST),
             closing: mk("closing", caps.seam_pairs as u64 * VEC4, storage),
+            // Only with a coarse grid: one element otherwise.
+            cres: mk("cres", if caps.coarse > 0 { n * VEC4 } else { VEC4 }, storage),
+            cwork: mk("cwork", (super::coarse::SECTIONS * caps.coarse) as u64 * VEC4, storage),
             x_backup: mk("x_backup", n * VEC4, storage),
             v_backup: mk("v_backup", n * VEC4, storage),
             state_backup: mk("state_backup", STATE_BYTES, storage),

@@ -10,7 +10,7 @@ pub const PHASE_CLOSING: u32 = 0;
 pub const PHASE_RELEASING: u32 = 1;
 pub const PHASE_DONE: u32 = 2;
 
-/// Mirror of WGSL `Params` (uniform; 240 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
+/// Mirror of WGSL `Params` (uniform; 288 bytes). `gravity` is a `vec3<f32>` (16-byte aligned,
 /// 12 bytes) followed by `h`, so no padding is needed there; the size is a multiple of 16.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -75,6 +75,18 @@ pub struct Params {
     pub closing_speed: f32,
     /// Pairs were on their closing schedule at upload: `close_seams` runs every substep.
     pub closing_scheduled: u32,
+    /// The two-level step's coarse grid (`coarse.wgsl`): aggregates (0: off), CG iterations,
+    /// and its sections of `idx` and `fdata`.
+    pub n_coarse: u32,
+    pub coarse_iterations: u32,
+    pub coarse_agg: u32,
+    pub coarse_member_off: u32,
+    pub coarse_members: u32,
+    pub coarse_off: u32,
+    pub coarse_cols: u32,
+    pub coarse_vals: u32,
+    pub coarse_diag0: u32,
+    pub _pad_coarse: [u32; 3],
 }
 
 /// Mirror of WGSL `StepState` (storage; 96 bytes).

@@ -72,6 +72,22 @@ struct Params {
     closing_gravity: f32,
     closing_speed: f32,
     closing_scheduled: u32,
+    // The two-level step's coarse grid (`coarse.wgsl`; n_coarse 0: off): its size and CG
+    // iterations; sections of `idx`: each particle's aggregate, each aggregate's members
+    // (rows, members), the coarse matrix's rows and columns; of `fdata`: its values and its
+    // diagonal without contacts.
+    n_coarse: u32,
+    coarse_iterations: u32,
+    coarse_agg: u32,
+    coarse_member_off: u32,
+    coarse_members: u32,
+    coarse_off: u32,
+    coarse_cols: u32,
+    coarse_vals: u32,
+    coarse_diag0: u32,
+    _pad_coarse0: u32,
+    _pad_coarse1: u32,
+    _pad_coarse2: u32,
 }
 
 // Per-substep iteration state and the seam-closing ramp, owned by the GPU.

@@ -62,6 +62,7 @@ pub mod attach;
 mod buffers;
 pub mod chebyshev;
 pub mod close_seams;
+pub mod coarse;
 pub mod collide_common;
 pub mod common;
 pub mod contacts;
@@ -159,6 +160,8 @@ struct Uploaded {
     h: f32,
     rho: f32,
     method: Method,
+    /// Aggregates of the two-level step's coarse grid (0: the step is one-level).
+    n_coarse: usize,
 }
 
 /// The GPU backend of one simulation: the shared context (device and compiled stages), and

@@ -4,7 +4,7 @@
 
 use super::buffers::Buffers;
 use super::{
-    attach, chebyshev, close_seams, contacts, finish, gauss_seidel, hash, mesh_hash, predict, project_stencils,
+    attach, chebyshev, close_seams, coarse, contacts, finish, gauss_seidel, hash, mesh_hash, predict, project_stencils,
     project_triangles, ramp, resolve_mesh, self_collide,
 };
 
@@ -34,6 +34,11 @@ pub(super) struct Pipelines {
     pub(super) attach: wgpu::ComputePipeline,
     pub(super) gate: wgpu::ComputePipeline,
     pub(super) close_seams: wgpu::ComputePipeline,
+    pub(super) coarse_residual: wgpu::ComputePipeline,
+    pub(super) coarse_restrict: wgpu::ComputePipeline,
+    pub(super) coarse_solve: wgpu::ComputePipeline,
+    pub(super) coarse_prolong: wgpu::ComputePipeline,
+    pub(super) coarse_prolong_history: wgpu::ComputePipeline,
 }
 
 pub(super) struct BindGroups {
@@ -62,6 +67,11 @@ pub(super) struct BindGroups {
     pub(super) attach: wgpu::BindGroup,
     pub(super) gate: wgpu::BindGroup,
     pub(super) close_seams: wgpu::BindGroup,
+    pub(super) coarse_residual: wgpu::BindGroup,
+    pub(super) coarse_restrict: wgpu::BindGroup,
+    pub(super) coarse_solve: wgpu::BindGroup,
+    pub(super) coarse_prolong: wgpu::BindGroup,
+    pub(super) coarse_prolong_history: wgpu::BindGroup,
 }
 
 impl Pipelines {
@@ -93,6 +103,16 @@ impl Pipelines {
             self_scatter: compile(device, "self_scatter", self_collide::SOURCE, self_collide::SCATTER_ENTRY),
             self_gather: compile(device, "self_gather", self_collide::SOURCE, self_collide::GATHER_ENTRY),
             self_apply: compile(device, "self_apply", self_collide::SOURCE, self_collide::APPLY_ENTRY),
+            coarse_residual: compile(device, "coarse_residual", coarse::SOURCE, coarse::RESIDUAL_ENTRY),
+            coarse_restrict: compile(device, "coarse_restrict", coarse::SOURCE, coarse::RESTRICT_ENTRY),
+            coarse_solve: compile(device, "coarse_solve", coarse::SOURCE, coarse::SOLVE_ENTRY),
+            coarse_prolong: compile(device, "coarse_prolong", coarse::SOURCE, coarse::PROLONG_ENTRY),
+            coarse_prolong_history: compile(
+                device,
+                "coarse_prolong_history",
+                coarse::SOURCE,
+                coarse::PROLONG_HISTORY_ENTRY,
+            ),
         }
     }
 }
@@ -153,6 +173,16 @@ impl BindGroups {
             attach: bind(d, &pl.attach, "attach", &attach::entries(b)),
             gate: bind(d, &pl.gate, "gate", &chebyshev::gate_entries(b)),
             close_seams: bind(d, &pl.close_seams, "close_seams", &close_seams::entries(b)),
+            coarse_residual: bind(d, &pl.coarse_residual, "coarse_residual", &coarse::residual_entries(b)),
+            coarse_restrict: bind(d, &pl.coarse_restrict, "coarse_restrict", &coarse::restrict_entries(b)),
+            coarse_solve: bind(d, &pl.coarse_solve, "coarse_solve", &coarse::solve_entries(b)),
+            coarse_prolong: bind(d, &pl.coarse_prolong, "coarse_prolong", &coarse::prolong_entries(b)),
+            coarse_prolong_history: bind(
+                d,
+                &pl.coarse_prolong_history,
+                "coarse_prolong_history",
+                &coarse::prolong_history_entries(b),
+            ),
         }
     }
 }

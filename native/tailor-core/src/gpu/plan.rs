@@ -9,13 +9,15 @@
 //!    after an upload) `lerp`, `count`, `scan` (three passes), `scatter`, `sort`; `attach` (riding pins);
 //! 2. per iteration: `gate` (early stop on, from the second iteration), `detect` (colliders),
 //!    `project` (triangles), `project_stencils` (curved), `gauss_seidel` (one per colour),
-//!    `reduce_partial` and `reduce_omega`, `extrapolate` (Chebyshev), the self-collision
+//!    `reduce_partial` and `reduce_omega`, `extrapolate` (Chebyshev), the two-level step's
+//!    coarse correction (`coarse_residual`, `coarse_restrict`, `coarse_solve`,
+//!    `coarse_prolong`), the self-collision
 //!    passes (count, scan in three, scatter, sort, gather, apply);
 //! 3. `resolve_mesh` (mesh colliders), `finish`, `ramp`.
 
 use super::{
-    attach, chebyshev, contacts, gauss_seidel, groups, hash, mesh_hash, predict, project_stencils, project_triangles,
-    resolve_mesh, self_collide, BindGroups, Method, Pipelines, Uploaded,
+    attach, chebyshev, coarse, contacts, gauss_seidel, groups, hash, mesh_hash, predict, project_stencils,
+    project_triangles, resolve_mesh, self_collide, BindGroups, Method, Pipelines, Uploaded,
 };
 use crate::solver::Stage;
 
@@ -131,6 +133,18 @@ pub(super) fn frame<'a>(
             add("reduce", &pl.reduce, &g.reduce, 1);
             if u.method == Method::Chebyshev {
                 add("extrapolate", &pl.extrapolate, &g.extrapolate, groups(n, chebyshev::WORKGROUP));
+            }
+            if u.n_coarse > 0 {
+                let wg = coarse::WORKGROUP;
+                add("coarse_residual", &pl.coarse_residual, &g.coarse_residual, groups(n, wg));
+                add("coarse_restrict", &pl.coarse_restrict, &g.coarse_restrict, groups(u.n_coarse, wg));
+                add("coarse_solve", &pl.coarse_solve, &g.coarse_solve, 1);
+                // With Chebyshev the corrected iterate is also the next iteration's history.
+                if u.method == Method::Chebyshev {
+                    add("coarse_prolong", &pl.coarse_prolong_history, &g.coarse_prolong_history, groups(n, wg));
+                } else {
+                    add("coarse_prolong", &pl.coarse_prolong, &g.coarse_prolong, groups(n, wg));
+                }
             }
             if u.self_enabled {
                 let wg = self_collide::WORKGROUP;

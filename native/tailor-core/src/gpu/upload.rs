@@ -28,9 +28,6 @@ impl GpuSolver {
         if view.settings.method == Method::Jacobi {
             return Some("the Jacobi method".into());
         }
-        if view.settings.two_level {
-            return Some("the two-level global step (CPU only)".into());
-        }
         let own = view.collide.self_settings;
         if own.enabled && own.contacts == SelfContacts::Triangles {
             return Some("triangle self-contacts (CPU only)".into());
@@ -225,12 +222,29 @@ impl GpuSolver {
         p.self_mu_k = col.self_settings.kinetic_friction;
         p.self_mask = self_buckets.max(1) as u32 - 1;
 
+        // The two-level step's coarse grid, when the CPU's step would run it.
+        let coarse = view.coarse.map(|c| c.gpu_layout());
+        let n_coarse = coarse.as_ref().map_or(0, |c| c.diag0.len());
+        if let Some(c) = &coarse {
+            p.n_coarse = n_coarse as u32;
+            p.coarse_iterations = crate::solver::stages::coarse::COARSE_CG_ITERATIONS as u32;
+            p.coarse_agg = base(&mut idx, c.agg);
+            p.coarse_member_off = base(&mut idx, &c.member_offsets);
+            p.coarse_members = base(&mut idx, &c.members);
+            p.coarse_off = base(&mut idx, c.offsets);
+            p.coarse_cols = base(&mut idx, c.cols);
+        }
+
         let mut fdata: Vec<f32> = Vec::new();
         let fbase = |f: &mut Vec<f32>, data: &[f32]| {
             let b = f.len() as u32;
             f.extend_from_slice(data);
             b
         };
+        if let Some(c) = &coarse {
+            p.coarse_vals = fbase(&mut fdata, c.vals);
+            p.coarse_diag0 = fbase(&mut fdata, c.diag0);
+        }
         p.mat_vals = fbase(&mut fdata, &mat.vals);
         p.diag = fbase(&mut fdata, view.diag);
         let mut td = Vec::with_capacity(nt * project_triangles::TRI_FLOATS);
@@ -315,6 +329,7 @@ impl GpuSolver {
             self_buckets,
             attachments: attachments.len(),
             seam_pairs: sp.len(),
+            coarse: n_coarse,
         };
         let stride = self.ctx.device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
         let realloc = self.buffers.as_ref().is_none_or(|b| !b.caps.fits(&need));
@@ -441,6 +456,7 @@ impl GpuSolver {
             h,
             rho: view.rho,
             method: s.method,
+            n_coarse,
         });
         self.dirty = false;
         self.mesh_hash_valid = false;

@@ -12,19 +12,12 @@ use crate::solver::collide::contacts::{coulomb, resolve_penetrations};
 use crate::solver::collide::MESH_CONTACT;
 use crate::solver::model::settings::Method;
 use crate::solver::model::soa::Vec3Soa;
-use crate::solver::stages::coarse::CoarseLevel;
+use crate::solver::stages::coarse::{CoarseLevel, COARSE_CG_ITERATIONS};
 use crate::solver::stages::damping::{decay, SeamGaps};
 use crate::solver::stages::global::{unpack, unpack_extrapolated, GlobalSystem, SweepNorms};
 use crate::solver::stages::local::project_all;
 use crate::solver::stages::{Stage, StageTimings, STAGES};
 use crate::solver::stats::StepStats;
-
-/// The two-level step's coarse correction follows every sweep, with at most this many
-/// diagonally preconditioned conjugate-gradient iterations on the coarse grid. Measured on the
-/// cantilever of `tests/solver_physics.rs` at Final (the chord's angle; beam theory 41.5°, plain
-/// 89.5°): after every sweep 55.6°, every second 71.6°, every third 79.2°; 5 iterations 78.7°,
-/// 10 and 30 both 55.6° (without the preconditioner 10 gave 70.1°).
-const COARSE_CG_ITERATIONS: usize = 10;
 
 /// Power-iteration sweeps that measure Chebyshev's spectral radius (see `stages/chebyshev.rs`).
 const RHO_SWEEPS: u32 = 60;

@@ -40,6 +40,9 @@ pub struct SolverView<'a> {
     /// Self-collision sphere radius and hash cell side in effect, metres.
     pub self_radius: f32,
     pub self_cell: f32,
+    /// The two-level step's coarse grid, when it runs (two-level on, self-collision off).
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
+    pub(crate) coarse: Option<&'a crate::solver::stages::coarse::CoarseLevel>,
 }
 
 impl Simulation {
@@ -71,6 +74,7 @@ impl Simulation {
             collide: &self.collide,
             self_radius,
             self_cell,
+            coarse: self.coarse.as_ref(),
         }
     }
 

@@ -25,8 +25,16 @@ use super::global::GlobalSystem;
 use crate::solver::model::soa::Vec3Soa;
 use crate::solver::model::system::SparseSym32;
 
-const NONE: u32 = u32::MAX;
+/// The aggregate of a pinned particle (in none); the GPU's `coarse.wgsl` reads the same value.
+pub(crate) const NONE: u32 = u32::MAX;
 const DIAG: u32 = u32::MAX - 1;
+
+/// The two-level step's coarse correction follows every sweep, with at most this many
+/// diagonally preconditioned conjugate-gradient iterations on the coarse grid. Measured on the
+/// cantilever of `tests/solver_physics.rs` at Final (the chord's angle; beam theory 41.5°, plain
+/// 89.5°): after every sweep 55.6°, every second 71.6°, every third 79.2°; 5 iterations 78.7°,
+/// 10 and 30 both 55.6° (without the preconditioner 10 gave 70.1°).
+pub(crate) const COARSE_CG_ITERATIONS: usize = 10;
 
 /// Particles per parallel task of the residual (a small garment's runs on one thread: waking the
 /// pool for it cost more than the rows).
@@ -54,6 +62,18 @@ pub(crate) struct CoarseLevel {
     p: Vec<Vec3A>,
     q: Vec<Vec3A>,
     res: Vec<Vec3A>,
+}
+
+/// A coarse grid as the GPU reads it ([`CoarseLevel::gpu_layout`]).
+#[cfg(feature = "gpu")]
+pub(crate) struct CoarseLayout<'a> {
+    pub agg: &'a [u32],
+    pub member_offsets: Vec<u32>,
+    pub members: Vec<u32>,
+    pub offsets: &'a [u32],
+    pub cols: &'a [u32],
+    pub vals: &'a [f32],
+    pub diag0: &'a [f32],
 }
 
 impl CoarseLevel {
@@ -135,6 +155,40 @@ impl CoarseLevel {
         }
         let nnz = cols.len();
         Self { agg, n_c, offsets, vals: vec![0.0; nnz], cols, diag0: vec![0.0; n_c], fine_map, ..Default::default() }
+    }
+
+    /// What the GPU's coarse correction (`gpu/coarse.wgsl`) uploads: each particle's aggregate
+    /// (`NONE`: pinned), each aggregate's members in ascending order as compressed rows (so that
+    /// the GPU's sums run in the CPU's order), the coarse matrix's rows, columns and values and
+    /// its diagonal without contacts, for the substep length last given to `set_values`.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn gpu_layout(&self) -> CoarseLayout<'_> {
+        let mut member_offsets = vec![0u32; self.n_c + 1];
+        for &a in &self.agg {
+            if a != NONE {
+                member_offsets[a as usize + 1] += 1;
+            }
+        }
+        for a in 0..self.n_c {
+            member_offsets[a + 1] += member_offsets[a];
+        }
+        let mut fill = member_offsets.clone();
+        let mut members = vec![0u32; member_offsets[self.n_c] as usize];
+        for (i, &a) in self.agg.iter().enumerate() {
+            if a != NONE {
+                members[fill[a as usize] as usize] = i as u32;
+                fill[a as usize] += 1;
+            }
+        }
+        CoarseLayout {
+            agg: &self.agg,
+            member_offsets,
+            members,
+            offsets: &self.offsets,
+            cols: &self.cols,
+            vals: &self.vals,
+            diag0: &self.diag0,
+        }
     }
 
     /// Coarse grid points.

@@ -24,6 +24,7 @@ REPO = Path(__file__).resolve().parents[1]
 BODY = REPO / "sample_blends/sources/mean_all.obj"
 SHIRT = REPO / "native/tailor-core/tests/data/garmentcode/shirt_mean_specification.json"
 HOODY = REPO / "native/tailor-core/tests/data/garmentcode/hoody_mean_specification.json"
+SPECS = REPO / "native/tailor-core/tests/data/garmentcode"
 FRAMES = 60  # as tests/test_assembly.py: the seams meet by frame 30, then a second on the body
 
 
@@ -158,16 +159,22 @@ def test_bad_input_is_a_typed_error(places):
         tailor.place_on_body(square, places["torso_front"], clearance=-1.0)
 
 
+def simulated(arranged, tmp_path, label):
+    """`arranged` through `tailor simulate` with default settings on the body, `FRAMES` frames:
+    the command's result, its report's summary and last record, and the cache it wrote."""
+    path, report, cache = tmp_path / f"{label}.json", tmp_path / "report.json", tmp_path / "cloth.pc2"
+    arranged.save(str(path))
+    r = cli("simulate", path, "--collider", BODY, "--frames", FRAMES, "--report", report, "-o", cache)
+    rep = json.loads(report.read_text())
+    return r, rep["summary"], rep["frames"][-1], cache
+
+
 def assembles_where_its_own_placement_ends(garment, arranged, tmp_path, label):
     """`arranged` (``garment`` arranged on the body) through `tailor simulate` with default
     settings: assembled (verdict empty, seams under 1 mm, nothing inside, on the body), and each
     piece ending within 5 cm (centroid) of where ``garment``'s own placement ends it. Returns
     per piece its last frame's positions, arranged."""
-    path, report, cache = tmp_path / f"{label}.json", tmp_path / "report.json", tmp_path / "cloth.pc2"
-    arranged.save(str(path))
-    r = cli("simulate", path, "--collider", BODY, "--frames", FRAMES, "--report", report, "-o", cache)
-    rep = json.loads(report.read_text())
-    s, last = rep["summary"], rep["frames"][-1]
+    r, s, last, cache = simulated(arranged, tmp_path, label)
     print(f"arranged {label}: exit {r.returncode}, verdict {s['verdict']}, seam gap "
           f"{last['seam_gap_max_m'] * 1e3:.2f} mm, inside {last['penetration_count']}, "
           f"on body {last['on_body_fraction']:.2f}")
@@ -226,3 +233,25 @@ def test_the_hoody_arranged_automatically_wears_its_hood_on_the_head(body, place
     ends = assembles_where_its_own_placement_ends(garment, arranged, tmp_path, "hoody")
     for name in hoods:
         assert ends[name][:, 1].max() > 1.65, (name, ends[name][:, 1].max())  # over the head (its top 1.72 m)
+
+
+@pytest.mark.parametrize("name", ["asymm_circle_skirt_611_003", "tiered_dress_733_002"])
+def test_a_skirt_sewn_up_round_the_waist_unfolds_and_is_not_taken_for_a_fall(name, body, places, tmp_path):
+    """Two random GarmentCode designs nobody tuned (the design sampler's: an asymmetric circle
+    skirt on a waistband, a fitted shirt over a four-tier circle skirt), arranged on the body.
+    Their ring-shaped skirt pieces, rolled round the waist, are sewn up there and unfold to their
+    length once the seams have met, the waistband and the shirt staying where they were sewn:
+    the centroid drops about 20 cm while the top does not move. The verdict judged the centroid
+    alone and called both a fall (2026-11-27: 22.7 and 20.8 cm), in reports of garments hanging
+    from the waist as they should; the top's shift (3.1 cm and 0.6 cm) tells draping from
+    falling. Seam gaps measured then: 0.48 and 1.01 mm."""
+    garment = tailor.Garment.from_pattern(str(SPECS / f"{name}_specification.json"), edge=0.02)
+    arranged, _ = arrange_garment(garment, *body, places=list(places.values()))
+    r, s, last, _ = simulated(arranged, tmp_path, name)
+    print(f"{name}: exit {r.returncode}, verdict {s['verdict']}, centroid moved {s['centroid_shift_m'] * 100:.1f} cm, "
+          f"top {s['top_shift_m'] * 100:.1f} cm, seam gap {last['seam_gap_max_m'] * 1e3:.2f} mm, "
+          f"on body {last['on_body_fraction']:.2f}")
+    assert r.returncode == 0 and s["verdict"] == [], (r.returncode, s["verdict"], r.stdout[-1500:])
+    assert s["centroid_shift_m"] > 0.15 and s["top_shift_m"] < 0.05, s  # unfolded below a top that stayed
+    assert last["penetration_count"] == 0 and not s["nan"] and last["on_body_fraction"] > 0.75, last
+    assert last["seam_gap_max_m"] < 2e-3, last

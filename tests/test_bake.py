@@ -183,11 +183,12 @@ def test_records_judge_the_garment_on_the_body_and_the_summary_gives_the_verdict
 def test_judge_states_its_thresholds_and_refuses_a_dict_it_cannot_read(square):
     t = tailor.VERDICT_THRESHOLDS
     assert (t["on_body_distance_m"], t["on_body_min"], t["fell_shift_m"], t["open_gap_m"]) == (0.1, 0.25, 0.2, 0.01)
+    assert t["fell_top_shift_m"] == 0.1
     assert t["checks"] == ["fell", "open", "inside", "nan"]
     run = new_bake(square)
     run.run(lambda f: [box(0.3, -0.15)[0]], 1)
     m = run.sim.metrics(run.metrics_collider)
-    assert tailor.judge(m) == {"centroid_shift_m": 0.0, "failed": []}
+    assert tailor.judge(m) == {"centroid_shift_m": 0.0, "top_shift_m": 0.0, "failed": []}
     open_seam = dict(m, seam_gap=0.02, seams_closing=False)
     assert [f["check"] for f in tailor.judge(open_seam, m, nan=True)["failed"]] == ["open", "nan"]
     assert tailor.judge(dict(open_seam, seams_closing=True), m)["failed"] == []
@@ -227,16 +228,25 @@ def test_frames_are_judged_from_the_garment_as_sewn(square):
     run.run(lambda f: [box(0.3, -0.15)[0]], 1)
     m = run.sim.metrics(run.metrics_collider)
     placed = dict(m, seams_closing=True)
-    moved = dict(m, centroid=[c + d for c, d in zip(m["centroid"], (0.0, 0.3, 0.0))])
+    def shifted(d, by):  # the whole garment moved: its centroid and its top
+        return dict(d, **{k: [c + e for c, e in zip(d[k], by)] for k in ("centroid", "top")})
+
+    moved = shifted(m, (0.0, 0.3, 0.0))
     travelling = dict(moved, seams_closing=True)
     ref = bake.judged_from(None, placed)
     assert bake.judged_from(ref, travelling) is ref  # still closing: still the placement
     sewn = bake.judged_from(ref, moved)
     assert sewn is moved and tailor.judge(moved, sewn)["failed"] == []
     assert [f["check"] for f in tailor.judge(moved, placed)["failed"]] == ["fell"]  # what it used to say
-    fallen = dict(moved, centroid=[c - d for c, d in zip(moved["centroid"], (0.0, 0.0, 0.25))])
+    fallen = shifted(moved, (0.0, 0.0, -0.25))
     assert bake.judged_from(sewn, fallen) is sewn  # for good
     assert [f["check"] for f in tailor.judge(fallen, sewn)["failed"]] == ["fell"]
+    # Unfolded below its top (a skirt sewn up round the waist drops to its length): draping.
+    unfolded = dict(fallen, top=sewn["top"])
+    assert tailor.judge(unfolded, sewn)["failed"] == [] and tailor.judge(unfolded, sewn)["top_shift_m"] == 0.0
+    # A dict without a top (written before it was measured) is judged by its centroid.
+    old = {k: v for k, v in fallen.items() if k != "top"}
+    assert [f["check"] for f in tailor.judge(old, {k: v for k, v in sewn.items() if k != "top"})["failed"]] == ["fell"]
 
 
 def test_the_assembly_frames_are_reported_and_solve_the_same(tube):

@@ -332,12 +332,13 @@ def judge_unfinished(seams_closing: bool, seam_gap: float) -> dict[str, Any] | N
 def judge(metrics: dict[str, Any], start: dict[str, Any] | None = None, nan: bool = False) -> dict[str, Any]:
     """The checks a frame fails, given its `Simulation.metrics` (with a collider), those of the
     frame the run started from (`start`; the frame itself when None) and whether its solve
-    diverged (`nan`). Returns {"centroid_shift_m": float, "failed": [{"check", "reason"}, ...]},
-    `failed` empty when the frame passes, else in this order:
+    diverged (`nan`). Returns {"centroid_shift_m": float, "top_shift_m": float, "failed":
+    [{"check", "reason"}, ...]}, `failed` empty when the frame passes, else in this order:
 
-    * "fell": assembled, the garment's centroid moved more than 20 cm from `start`'s, relative to
-      the collider's surface centroid (a walking body carries its garment), or under 25 % of its
-      particles are within 10 cm of the collider's surface;
+    * "fell": assembled, the garment's centroid moved more than 20 cm from `start`'s and its top
+      (the mean of its highest twentieth against gravity, `metrics["top"]`: where it hangs from)
+      more than 10 cm, each relative to the collider's surface centroid (a walking body carries
+      its garment), or under 25 % of its particles are within 10 cm of the collider's surface;
     * "open": assembled, a seam is open wider than 1 cm;
     * "inside": assembled, a particle is deeper than 1 cm inside the collider, or more than 1 % of
       the particles are inside it;
@@ -348,7 +349,7 @@ def judge(metrics: dict[str, Any], start: dict[str, Any] | None = None, nan: boo
     or mistyped field is an InvalidParameterError."""
 
 #: The verdict's thresholds (see `judge`): "on_body_distance_m" 0.10, "on_body_min" 0.25,
-#: "fell_shift_m" 0.20, "open_gap_m" 0.01, "inside_depth_m" 0.01, "inside_share" 0.01, and
+#: "fell_shift_m" 0.20, "fell_top_shift_m" 0.10, "open_gap_m" 0.01, "inside_depth_m" 0.01, "inside_share" 0.01, and
 #: "checks", the check names in verdict order.
 VERDICT_THRESHOLDS: dict[str, Any]
 # Patterns, triangulation, seams and garments.

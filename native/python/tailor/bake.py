@@ -76,8 +76,9 @@ def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: in
     """The quality of the simulation's current state as one report record, judged against
     `start` (the `Simulation.metrics` of the run's first frame; this frame itself when None) by
     `tailor.judge`: `on_body_fraction` (share of the particles within 10 cm of `collider`, None
-    without one), `centroid_shift_m` (how far the garment's centroid moved on the body since
-    `start`, which callers keep with `judged_from`), `seams_closing` (still assembling) and `failed` (the checks it fails, each
+    without one), `centroid_shift_m` and `top_shift_m` (how far the garment's centroid and its
+    top, where it hangs from, moved on the body since `start`, which callers keep with
+    `judged_from`), `seams_closing` (still assembling) and `failed` (the checks it fails, each
     {"check", "reason"}). `metrics` is `sim.metrics(collider)` when the caller already has it."""
     m = sim.metrics(collider) if metrics is None else metrics
     nan = bool(nan or not np.isfinite(sim.positions).all())
@@ -92,6 +93,7 @@ def frame_record(sim: Simulation, frame: int, ms: float, nan: bool, collider: in
         "strain_max": float(m["strain_max"]),
         "on_body_fraction": None if m["on_body_fraction"] is None else float(m["on_body_fraction"]),
         "centroid_shift_m": float(verdict["centroid_shift_m"]),
+        "top_shift_m": float(verdict["top_shift_m"]),
         "seams_closing": bool(m["seams_closing"]),
         "nan": nan,
         "failed": verdict["failed"],
@@ -125,7 +127,7 @@ def summarize(records: Sequence[dict]) -> dict:
     """Worst case of every quality field over `records` (the largest of `FIELDS`), the mean
     frame time, any NaN, and the garment on the body over the frames `tailor.judge` judges it
     on, the assembled ones (`assembled_frames` of them): the smallest `on_body_fraction` and the
-    largest `centroid_shift_m` (None when no frame is assembled or there is no collider); `ms`
+    largest `centroid_shift_m` and `top_shift_m` (None when no frame is assembled or there is no collider); `ms`
     is the mean over the frames that were a step (not the start frame's, which holds the whole
     assembly, unless it is the only record). And the
     `verdict`: each check that some record failed (in `judge`'s order) with the first frame that
@@ -133,7 +135,8 @@ def summarize(records: Sequence[dict]) -> dict:
     each backend solved (records of `Bake.step` carry `backend` and `backend_warning`)."""
     if not records:
         return {"frame": 0, "ms": 0.0, "nan": False, **{k: 0 for k in FIELDS}, "assembled_frames": 0,
-                "on_body_fraction": None, "centroid_shift_m": None, "verdict": [], "backends": {}}
+                "on_body_fraction": None, "centroid_shift_m": None, "top_shift_m": None, "verdict": [],
+                "backends": {}}
     s = {k: max(r[k] for r in records) for k in FIELDS}
     # The frame time of the steps: the start frame's time is the whole assembly's (its preroll
     # and transition, tens of frames), not a frame's.
@@ -151,12 +154,14 @@ def summarize(records: Sequence[dict]) -> dict:
 
 def on_body_worst(records: Sequence[dict]) -> dict:
     """Over the assembled records (`seams_closing` false: those `tailor.judge` judges on the body):
-    how many, the smallest `on_body_fraction` and the largest `centroid_shift_m` (None when none
-    is assembled or there is no collider)."""
+    how many, the smallest `on_body_fraction` and the largest `centroid_shift_m` and `top_shift_m`
+    (None when none is assembled or there is no collider; records written before the top was
+    measured count by their centroid's)."""
     judged = [r for r in records if not r.get("seams_closing", False)]
     shares = [r["on_body_fraction"] for r in judged if r.get("on_body_fraction") is not None]
     return {"assembled_frames": len(judged), "on_body_fraction": min(shares) if shares else None,
-            "centroid_shift_m": max(r["centroid_shift_m"] for r in judged) if judged else None}
+            "centroid_shift_m": max(r["centroid_shift_m"] for r in judged) if judged else None,
+            "top_shift_m": max(r.get("top_shift_m", r["centroid_shift_m"]) for r in judged) if judged else None}
 
 
 def verdict_of(records: Sequence[dict]) -> list[dict]:
@@ -187,12 +192,12 @@ def summary_text(summary: dict) -> str:
     quality figures, the garment on the body, and the verdict ("passes its checks", or each
     failed check with its first frame)."""
     s = summary
-    share, shift = s.get("on_body_fraction"), s.get("centroid_shift_m")
+    share, shift, top = s.get("on_body_fraction"), s.get("centroid_shift_m"), s.get("top_shift_m")
     if not s.get("assembled_frames"):
         on_body = ", still assembling"
     else:
         on_body = (f", on body min {share * 100:.0f} %" if share is not None else "") + \
-            f", centroid moved max {shift * 1e2:.1f} cm"
+            f", centroid moved max {shift * 1e2:.1f} cm" + (f", top {top * 1e2:.1f} cm" if top is not None else "")
     failed = [f"{v['check']} (frame {v['frame']})" for v in s.get("verdict", ())]
     return (f"{s['frame']} frames, {s['ms']:.0f} ms/frame, seam gap max {s['seam_gap_max_m'] * 1e3:.2f} mm, "
             f"penetration max {s['penetration_max_m'] * 1e3:.2f} mm, strain max {s['strain_max']:.3f}{on_body}"

@@ -476,7 +476,7 @@ fn two_level(mut sim: Simulation) -> Simulation {
 /// nearer the CPU's two-level run than the CPU's run is to the one-level one. A correction left out, applied twice or to the wrong aggregate moves the GPU's
 /// run off the CPU's by as much. Even on lavapipe the coarse solve's dot products are summed
 /// as a workgroup's tree, not in the CPU's order, so the bound is the scene's own sensitivity
-/// to the first frame's difference on every adapter (lavapipe, 2026-11-28: the first frame
+/// to the first frame's difference on every adapter (lavapipe, 2026-11-27: the first frame
 /// 4.2e-6 m apart, the buckling tube 1.0e-3 m by frame 30, where the one-level tube, summed
 /// in the CPU's order, stays within 2.7e-4 m).
 #[test]

@@ -107,6 +107,7 @@ pub fn metrics_dict<'py>(py: Python<'py>, m: &QualityMetrics) -> PyResult<Bound<
     d.set_item("kinetic_energy", m.kinetic_energy)?;
     d.set_item("particles", m.particles)?;
     d.set_item("centroid", m.centroid.to_vec())?;
+    d.set_item("top", m.top.to_vec())?;
     d.set_item("on_body_fraction", m.on_body_fraction)?;
     d.set_item("collider_centroid", m.collider_centroid.map(|c| c.to_vec()))?;
     d.set_item("seams_closing", m.seams_closing)?;
@@ -126,12 +127,19 @@ fn metrics_from_dict(d: &Bound<'_, PyDict>, name: &str) -> PyResult<QualityMetri
             item($key)?.extract::<$t>().map_err(|e| bad($key, e.into()))?
         };
     }
+    let centroid = field!("centroid", [f32; 3]);
+    // Dicts written before the top was measured: the centroid stands for it.
+    let top = match d.get_item("top")? {
+        Some(t) => t.extract::<[f32; 3]>().map_err(|e| bad("top", e))?,
+        None => centroid,
+    };
     Ok(QualityMetrics {
         penetration_count: field!("penetration_count", usize),
         penetration_max_depth: field!("penetration_max_depth", f32),
         seam_gap: field!("seam_gap", f32),
         particles: field!("particles", usize),
-        centroid: field!("centroid", [f32; 3]),
+        centroid,
+        top,
         on_body_fraction: field!("on_body_fraction", Option<f32>),
         collider_centroid: field!("collider_centroid", Option<[f32; 3]>),
         seams_closing: field!("seams_closing", bool),
@@ -156,6 +164,7 @@ pub fn judge<'py>(
         };
         let d = PyDict::new(py);
         d.set_item("centroid_shift_m", verdict::centroid_shift(&start, &now))?;
+        d.set_item("top_shift_m", verdict::top_shift(&start, &now))?;
         let failed = pyo3::types::PyList::empty(py);
         for f in verdict::judge(&now, &start, nan) {
             let e = PyDict::new(py);
@@ -196,6 +205,7 @@ pub fn verdict_thresholds<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> 
     d.set_item("on_body_distance_m", tidy(metrics::ON_BODY_DISTANCE))?;
     d.set_item("on_body_min", tidy(verdict::ON_BODY_MIN))?;
     d.set_item("fell_shift_m", tidy(verdict::FELL_SHIFT))?;
+    d.set_item("fell_top_shift_m", tidy(verdict::FELL_TOP_SHIFT))?;
     d.set_item("open_gap_m", tidy(verdict::OPEN_GAP))?;
     d.set_item("inside_depth_m", tidy(verdict::INSIDE_DEPTH))?;
     d.set_item("inside_share", tidy(verdict::INSIDE_SHARE))?;

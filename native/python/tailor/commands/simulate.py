@@ -32,10 +32,10 @@ and a summary of the same fields (worst case over the frames, mean time of the f
 were a step: frame 1's holds the whole assembly).
 
 Every frame is judged by ``tailor.judge`` against the start frame (frame 1): whether it
-fell off the body (its centroid moved over 20 cm on the body, or, assembled, under 50 % of its
-particles lie within 5 cm of the body), a seam is open (over 1 cm once assembled), cloth is
+fell off the body (its centroid moved over 20 cm on the body and its top, where it hangs
+from, over 10 cm; or, assembled, under 25 % of its particles lie within 10 cm of the body), a seam is open (over 1 cm once assembled), cloth is
 inside the body (deeper than 1 cm, or over 1 % of the particles) or the solve diverged. The
-records carry ``on_body_fraction``, ``centroid_shift_m`` and ``failed``; the summary the worst of
+records carry ``on_body_fraction``, ``centroid_shift_m``, ``top_shift_m`` and ``failed``; the summary the worst of
 them and its ``verdict``: each failed check with the first frame that failed it and why, printed
 as a ``warning:`` line.
 
@@ -335,7 +335,8 @@ def run(args):
         print(f"frame {f:4d}/{args.frames}: {rec['ms']:7.1f} ms, seam gap {rec['seam_gap_max_m'] * 1e3:.2f} mm, "
               f"penetrations {rec['penetration_count']} (max {rec['penetration_max_m'] * 1e3:.2f} mm), "
               f"self-intersections {rec['self_intersections']}, strain max {rec['strain_max']:.3f}, "
-              f"on body {rec['on_body_fraction'] * 100:.0f} %, centroid moved {rec['centroid_shift_m'] * 1e2:.1f} cm, "
+              f"on body {rec['on_body_fraction'] * 100:.0f} %, centroid moved {rec['centroid_shift_m'] * 1e2:.1f} cm "
+              f"(top {rec['top_shift_m'] * 1e2:.1f} cm), "
               f"on the {(rec.get('backend') or '-').upper()}", flush=True)
         if f % 10 == 0:
             report(complete=False)

@@ -194,6 +194,25 @@ pub fn on_body_fraction(points: &[[f32; 3]], body: &ClosedMesh, within: f32) -> 
     (body.count_within(points, within) as f64 / points.len() as f64) as f32
 }
 
+/// The share of the cloth [`top`] averages: its highest twentieth.
+pub const TOP_SHARE: f64 = 0.05;
+
+/// The mean of the highest [`TOP_SHARE`] of `points` along `up` (at least one point): where a
+/// garment hangs from. `up` zero (no gravity): the [`centroid`].
+pub fn top(points: &[[f32; 3]], up: [f32; 3]) -> [f32; 3] {
+    let norm = (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]).sqrt();
+    if points.is_empty() || norm.is_nan() || norm <= 0.0 {
+        return centroid(points);
+    }
+    let height = |p: &[f32; 3]| (p[0] * up[0] + p[1] * up[1] + p[2] * up[2]) / norm;
+    let k = ((points.len() as f64 * TOP_SHARE).ceil() as usize).clamp(1, points.len());
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    // The k highest first (ties by index, so the choice is the same on every run).
+    order.select_nth_unstable_by(k - 1, |&a, &b| height(&points[b]).total_cmp(&height(&points[a])).then(a.cmp(&b)));
+    let highest: Vec<[f32; 3]> = order[..k].iter().map(|&i| points[i]).collect();
+    centroid(&highest)
+}
+
 /// The mean of `points` (summed in `f64`; the origin for no points).
 pub fn centroid(points: &[[f32; 3]]) -> [f32; 3] {
     let n = points.len().max(1) as f64;
@@ -317,6 +336,20 @@ mod tests {
         let c = centroid(&pts);
         assert!((c[1] - (0.91 - 5.0) / 5.0).abs() < 1e-6, "{c:?}");
         assert_eq!(centroid(&[]), [0.0; 3]);
+    }
+
+    /// The top is the mean of the highest twentieth against gravity (a point of five here),
+    /// whichever way up; without gravity the centroid.
+    #[test]
+    fn the_top_is_the_highest_twentieth() {
+        let pts: Vec<[f32; 3]> = (0..40).map(|i| [i as f32 * 0.1, -(i as f32), 0.5]).collect();
+        // Up is +y: the two highest are points 0 and 1.
+        assert_eq!(top(&pts, [0.0, 9.8, 0.0]), [0.05, -0.5, 0.5]);
+        // Up is -y (gravity along +y): points 38 and 39.
+        assert_eq!(top(&pts, [0.0, -1.0, 0.0]), [3.85, -38.5, 0.5]);
+        assert_eq!(top(&pts, [0.0; 3]), centroid(&pts));
+        assert_eq!(top(&pts[..1], [0.0, 1.0, 0.0]), pts[0]);
+        assert_eq!(top(&[], [0.0, 1.0, 0.0]), [0.0; 3]);
     }
 
     #[test]

@@ -36,6 +36,9 @@ pub struct QualityMetrics {
     pub particles: usize,
     /// Mean position of the cloth particles, metres.
     pub centroid: [f32; 3],
+    /// Mean position of the cloth's highest twentieth against gravity ([`metrics::top`]): where
+    /// a worn garment hangs from (a waist, shoulders), metres; the centroid without gravity.
+    pub top: [f32; 3],
     /// Share of the cloth particles within [`ON_BODY_DISTANCE`](metrics::ON_BODY_DISTANCE) of the collider's surface
     /// (`None` without a collider).
     pub on_body_fraction: Option<f32>,

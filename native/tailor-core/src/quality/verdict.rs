@@ -15,7 +15,10 @@
 //! shift is measured from the frame the caller passes as `start`: the bake loops pass the first
 //! assembled frame (`tailor.bake.judged_from`), the garment as sewn, so a garment that fell or
 //! slid off a shoulder is caught however late, and pieces that travelled to meet (a skirt
-//! placed below the shirt it is sewn to comes up 17 cm) are not taken for a fall.
+//! placed below the shirt it is sewn to comes up 17 cm) are not taken for a fall. A garment
+//! falls with its top, where it hangs from: one whose top stays while the rest drops (a circle
+//! skirt or a tiered one sewn up round the waist, unfolding to its length once gravity comes
+//! back: centroids 21-23 cm down, tops 3-4 cm) drapes, and is not taken for a fall either.
 
 use glam::Vec3;
 
@@ -23,8 +26,11 @@ use super::metrics::ON_BODY_DISTANCE;
 use super::QualityMetrics;
 
 /// "fell": the cloth's centroid moved more than this from the frame it is judged against (the
-/// garment as sewn; relative to the body), metres.
+/// garment as sewn; relative to the body), metres ...
 pub const FELL_SHIFT: f32 = 0.20;
+/// ... and its top ([`QualityMetrics::top`]) more than this: a garment whose top stays where it
+/// hangs from while the rest drops is draping, not falling.
+pub const FELL_TOP_SHIFT: f32 = 0.10;
 /// "fell": fewer than this share of the particles lie within [`ON_BODY_DISTANCE`] of the body.
 ///
 /// A garment that fell has none near the body, one worn on it most (the samples on the sample
@@ -44,7 +50,8 @@ pub const INSIDE_SHARE: f32 = 0.01;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Check {
     /// Assembled, the garment left the body: its centroid moved more than [`FELL_SHIFT`] from
-    /// where it started, relative to the body ([`centroid_shift`]), or fewer than
+    /// where it started, relative to the body ([`centroid_shift`]), and its top more than
+    /// [`FELL_TOP_SHIFT`] ([`top_shift`]), or fewer than
     /// [`ON_BODY_MIN`] of its particles are within [`ON_BODY_DISTANCE`] of the body.
     Fell,
     /// Assembled, a seam is open wider than [`OPEN_GAP`].
@@ -94,7 +101,17 @@ pub fn judge_unfinished(seams_closing: bool, seam_gap: f32) -> Option<Failure> {
 /// collider's surface centroid when both frames have one (a body that walks carries the
 /// garment with it; only the garment's motion on the body counts), else absolute.
 pub fn centroid_shift(start: &QualityMetrics, now: &QualityMetrics) -> f32 {
-    let (c0, c) = (Vec3::from(start.centroid), Vec3::from(now.centroid));
+    shift_on_body(start, now, start.centroid, now.centroid)
+}
+
+/// How far the cloth's top ([`QualityMetrics::top`]) moved from `start` to `now`, metres, on
+/// the body as [`centroid_shift`].
+pub fn top_shift(start: &QualityMetrics, now: &QualityMetrics) -> f32 {
+    shift_on_body(start, now, start.top, now.top)
+}
+
+fn shift_on_body(start: &QualityMetrics, now: &QualityMetrics, from: [f32; 3], to: [f32; 3]) -> f32 {
+    let (c0, c) = (Vec3::from(from), Vec3::from(to));
     match (start.collider_centroid, now.collider_centroid) {
         (Some(b0), Some(b)) => ((c - Vec3::from(b)) - (c0 - Vec3::from(b0))).length(),
         _ => (c - c0).length(),
@@ -108,14 +125,16 @@ pub fn judge(now: &QualityMetrics, start: &QualityMetrics, nan: bool) -> Vec<Fai
     let mut out = Vec::new();
     let assembled = !now.seams_closing;
     let mut fell = Vec::new();
-    let shift = centroid_shift(start, now);
+    let (shift, top) = (centroid_shift(start, now), top_shift(start, now));
     // A non-finite shift (a centroid of NaN) is judged by the nan check, not here.
-    if assembled && shift > FELL_SHIFT {
+    if assembled && shift > FELL_SHIFT && top > FELL_TOP_SHIFT {
         fell.push(format!(
-            "the garment's centroid moved {} from where it started{} (limit {})",
+            "the garment's centroid moved {} and its top {} from where they started{} (limits {}, {})",
             metres(shift),
+            metres(top),
             if now.collider_centroid.is_some() { " on the body" } else { "" },
-            metres(FELL_SHIFT)
+            metres(FELL_SHIFT),
+            metres(FELL_TOP_SHIFT)
         ));
     }
     if let (true, Some(share)) = (assembled, now.on_body_fraction) {
@@ -187,6 +206,7 @@ mod tests {
         QualityMetrics {
             particles: 1000,
             centroid: [0.0, 1.0, 0.0],
+            top: [0.0, 1.3, 0.0],
             on_body_fraction: Some(0.9),
             collider_centroid: Some([0.0, 0.9, 0.0]),
             seam_gap: 0.5e-3,
@@ -217,10 +237,14 @@ mod tests {
     #[test]
     fn fell_by_the_centroid_or_the_share_near_the_body() {
         let start = on_body();
-        let dropped = QualityMetrics { centroid: [0.0, -2.0, 0.0], ..start };
+        let dropped = QualityMetrics { centroid: [0.0, -2.0, 0.0], top: [0.0, -1.7, 0.0], ..start };
         let f = judge(&dropped, &start, false);
         assert_eq!(checks(&f), ["fell"]);
-        assert!(f[0].reason.contains("moved 3.00 m") && f[0].reason.contains("limit 20 cm"), "{}", f[0].reason);
+        assert!(
+            f[0].reason.contains("moved 3.00 m and its top 3.00 m") && f[0].reason.contains("limits 20 cm, 10 cm"),
+            "{}",
+            f[0].reason
+        );
         let slipped = QualityMetrics { on_body_fraction: Some(0.2), ..start };
         let f = judge(&slipped, &start, false);
         assert_eq!(checks(&f), ["fell"]);
@@ -236,15 +260,35 @@ mod tests {
         assert!(judge(&assembling, &start, false).is_empty());
     }
 
+    /// A garment whose top stays while the rest drops 25 cm (a circle skirt sewn up round the
+    /// waist, unfolding) drapes and passes; with its top 15 cm down too it fell.
+    #[test]
+    fn a_garment_that_unfolds_below_its_top_drapes() {
+        let start = on_body();
+        let unfolded = QualityMetrics { centroid: [0.0, 0.75, 0.0], top: [0.0, 1.27, 0.0], ..start };
+        assert!((centroid_shift(&start, &unfolded) - 0.25).abs() < 1e-6);
+        assert!((top_shift(&start, &unfolded) - 0.03).abs() < 1e-6);
+        assert!(judge(&unfolded, &start, false).is_empty());
+        let slid = QualityMetrics { top: [0.0, 1.15, 0.0], ..unfolded };
+        let f = judge(&slid, &start, false);
+        assert_eq!(checks(&f), ["fell"]);
+        assert!(f[0].reason.contains("its top 15 cm"), "{}", f[0].reason);
+    }
+
     #[test]
     fn a_body_that_walks_carries_its_garment() {
         let start = on_body();
         // Body and garment 3 m further on: no shift.
-        let walked = QualityMetrics { centroid: [3.0, 1.0, 0.0], collider_centroid: Some([3.0, 0.9, 0.0]), ..start };
+        let walked = QualityMetrics {
+            centroid: [3.0, 1.0, 0.0],
+            top: [3.0, 1.3, 0.0],
+            collider_centroid: Some([3.0, 0.9, 0.0]),
+            ..start
+        };
         assert!(centroid_shift(&start, &walked) < 1e-6);
         assert!(judge(&walked, &start, false).is_empty());
         // The body walked on and left the garment behind.
-        let left = QualityMetrics { centroid: [0.0, 1.0, 0.0], ..walked };
+        let left = QualityMetrics { centroid: [0.0, 1.0, 0.0], top: [0.0, 1.3, 0.0], ..walked };
         assert!((centroid_shift(&start, &left) - 3.0).abs() < 1e-6);
         assert_eq!(checks(&judge(&left, &start, false)), ["fell"]);
         // Without a collider the shift is absolute.
@@ -289,6 +333,7 @@ mod tests {
         assert_eq!(checks(&judge(&start, &start, true)), ["nan"]);
         let all = QualityMetrics {
             centroid: [0.0, -1.0, 0.0],
+            top: [0.0, -0.7, 0.0],
             seam_gap: 0.05,
             penetration_count: 500,
             penetration_max_depth: 0.1,

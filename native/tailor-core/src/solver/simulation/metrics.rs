@@ -4,7 +4,7 @@ use super::Simulation;
 use crate::collision::closed_mesh::ClosedMesh;
 use crate::error::Result;
 use crate::quality::metrics::{
-    centroid, edge_strain, kinetic_energy_soa, on_body_fraction, self_intersecting_pairs, ON_BODY_DISTANCE,
+    centroid, edge_strain, kinetic_energy_soa, on_body_fraction, self_intersecting_pairs, top, ON_BODY_DISTANCE,
 };
 use crate::quality::QualityMetrics;
 use crate::solver::collide::self_collide::seam_partners;
@@ -36,6 +36,7 @@ impl Simulation {
         }
         q.particles = pos.len();
         q.centroid = centroid(&pos);
+        q.top = top(&pos, self.settings.gravity.map(|g| -g));
         q.seams_closing = self.seams_closing();
         q.self_intersections = self_intersecting_pairs(&pos, mesh.triangles(), &self.sewn_vertices())?.len();
         q.seam_gap = self.seam_gaps().0;

@@ -94,3 +94,35 @@ def test_bad_files_fail_with_the_file_named(tmp_path):
     assert r.returncode != 0 and "nothing.json" in r.stderr
     r = run("import", DATA / "svg/skirt_two_panels.svg", "--edge", "-1", "-o", tmp_path / "z.json")
     assert r.returncode != 0 and "edge" in r.stderr
+
+
+def test_a_pattern_is_arranged_round_a_body_on_import(tmp_path):
+    """`--arrange BODY`: each piece where `tailor.arrange.arrange_garment` puts it (the file's
+    placements dropped), the plan printed a line a piece; a body that cannot be read, or a
+    negative clearance, is one line and exit 2, and nothing is written."""
+    import numpy as np
+
+    import tailor
+    from tailor.arrange import arrange_garment
+
+    spec, body = DATA / "garmentcode/flare_skirt_specification.json", ROOT / "sample_blends/sources/mean_all.obj"
+    out = tmp_path / "arranged.json"
+    r = run("import", spec, "--edge", "0.03", "--arrange", body, "-o", out)
+    assert r.returncode == 0, r.stderr
+    garment = tailor.Garment.load(str(out))
+    names = [p.name for p in garment.pieces]
+    for name in names:
+        assert f"  {name}: waist, " in r.stdout, r.stdout
+    assert f"arranged round {body}" in r.stdout
+    assert all(p is None for p in garment.placements)
+    want, _ = arrange_garment(tailor.Garment.from_pattern(str(spec), edge=0.03), *tailor.read_mesh(str(body)), up="y")
+    got = garment.build_simulation()[0].positions
+    assert np.allclose(got, want.build_simulation()[0].positions, atol=1e-6)
+    own = tailor.Garment.from_pattern(str(spec), edge=0.03).build_simulation()[0].positions
+    assert np.abs(got - own).max() > 0.01  # not the file's own placement
+    for bad, says in ((("--arrange", tmp_path / "none.obj"), "none.obj"),
+                      (("--arrange", body, "--clearance", "-1"), "--clearance")):
+        dest = tmp_path / "bad.json"
+        r = run("import", spec, "--edge", "0.03", *bad, "-o", dest)
+        assert r.returncode == 2 and says in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert not dest.exists() and "Traceback" not in r.stderr

@@ -2,7 +2,7 @@
 and simulated with default settings exactly as a user would, and judged by Tailor's own checks.
 
     python bench/drape_suite/run.py [--seed 18] [--count 30] [--frames 90] [--edge 0.02]
-        [--no-walk] [--out out/drape-suite] [--sampler ../shared/tools/garmentcode/run]
+        [--no-walk] [--arrange] [--out out/drape-suite] [--sampler ../shared/tools/garmentcode/run]
         [--data ../shared/data] [--designs FOLDER]
 
 For each design the sampler writes (shirts, skirts of many kinds, trousers, waistbands and their
@@ -16,6 +16,10 @@ the walk: ``python demo/run.py --garment GARMENT --no-render`` on the walking sa
 (`tailor.bake.Bake`'s preroll, transition and frames), judged by the same checks. It prints one line per design and the shares that succeed, and writes
 ``OUT/summary.json``, ``OUT/table.md`` and a picture of every failure (``OUT/failures/NAME.png``:
 the last frame at rest; ``NAME-walk.png``: the walk's first failing frame; front and side).
+
+With ``--arrange`` the designs' own placements are dropped and each is imported with
+``--arrange BODY`` (`tailor.arrange`: every piece placed round the body by its name and shape):
+the arrangement judged on designs nobody tuned it to.
 """
 
 from __future__ import annotations
@@ -42,6 +46,8 @@ def parse_args(argv=None):
     p.add_argument("--count", type=int, default=30)
     p.add_argument("--frames", type=int, default=90, help="frames at rest on the body (30 fps)")
     p.add_argument("--no-walk", dest="walk", action="store_false", help="skip the walk on the sample character")
+    p.add_argument("--arrange", action="store_true",
+                   help="drop the designs' placements: import each with --arrange BODY (tailor.arrange)")
     p.add_argument("--edge", type=float, default=0.02)
     p.add_argument("--out", default=str(REPO / "out" / "drape-suite"))
     p.add_argument("--sampler", default=str(REPO.parent / "shared" / "tools" / "garmentcode" / "run"))
@@ -72,8 +78,9 @@ def run_one(name: str, spec: Path, kind: dict, body: Path, args, work: Path) -> 
     row = {"design": name, "kind": "+".join(v for v in (kind.get("upper"), kind.get("bottom"), kind.get("wb")) if v),
            "body": body.name}
     t0 = time.perf_counter()
-    imp = subprocess.run([py, "-m", "tailor", "import", str(spec), "--edge", str(args.edge), "-o", str(garment)],
-                         capture_output=True, text=True)
+    arrange = ["--arrange", str(body)] if args.arrange else []
+    imp = subprocess.run([py, "-m", "tailor", "import", str(spec), "--edge", str(args.edge), *arrange, "-o",
+                          str(garment)], capture_output=True, text=True)
     if imp.returncode != 0:
         return {**row, "ok": False, "failed": ["import"], "walk_ok": False, "walk_failed": ["import"],
                 "error": (imp.stderr or imp.stdout).strip()[-300:]}
@@ -92,6 +99,7 @@ def run_one(name: str, spec: Path, kind: dict, body: Path, args, work: Path) -> 
         failed=[f"{v['check']}@{v['frame']}" for v in verdict],
         on_body=round(float(last["on_body_fraction"]), 3),
         shift_m=round(float(last["centroid_shift_m"]), 3),
+        top_m=round(float(last["top_shift_m"]), 3),
         seam_gap_mm=round(float(last["seam_gap_max_m"]) * 1e3, 2),
         penetration=int(last["penetration_count"]),
     )
@@ -157,26 +165,30 @@ def main(argv=None) -> int:
                 f"shift {row.get('walk_shift_m', float('nan')):5.2f} m gap {row.get('walk_seam_gap_mm', float('nan')):6.2f} mm")
         print(f"{name:12s} {row['kind']:34s} rest {'ok  ' if row['ok'] else 'FAIL'} {','.join(row['failed']):12s} "
               f"on body {row.get('on_body', float('nan')):.2f} shift {row.get('shift_m', float('nan')):5.2f} m "
+              f"(top {row.get('top_m', float('nan')):5.2f} m) "
               f"gap {row.get('seam_gap_mm', float('nan')):6.2f} mm{walk}  {row.get('seconds', 0):6.1f} s", flush=True)
     ok = sum(r["ok"] for r in rows)
     walk_ok = sum(bool(r.get("walk_ok")) for r in rows) if args.walk else None
     secs = [r["seconds"] for r in rows if "seconds" in r]
     summary = {"seed": args.seed, "count": len(rows), "frames": args.frames, "edge_m": args.edge,
+               "arranged": args.arrange,
                "succeeded": ok, "share": ok / max(len(rows), 1), "walk_succeeded": walk_ok,
                "walk_share": None if walk_ok is None else walk_ok / max(len(rows), 1),
                "median_seconds_per_design": float(np.median(secs)) if secs else None, "designs": rows}
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
-    lines = ["| design | kind | at rest | on body | centroid shift (m) | seam gap (mm) | walk | walk: shift (m), seam gap (mm) | s |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| design | kind | at rest | on body | centroid shift (m) | top shift (m) | seam gap (mm) | walk | "
+             "walk: shift (m), seam gap (mm) | s |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     verdict = lambda ok, failed: "ok" if ok else "fails: " + ", ".join(failed)  # noqa: E731
     for r in rows:
         lines.append(f"| {r['design']} | {r['kind']} | {verdict(r['ok'], r['failed'])} | {r.get('on_body', '')} | "
-                     f"{r.get('shift_m', '')} | {r.get('seam_gap_mm', '')} | "
+                     f"{r.get('shift_m', '')} | {r.get('top_m', '')} | {r.get('seam_gap_mm', '')} | "
                      f"{verdict(r.get('walk_ok'), r.get('walk_failed', [])) if args.walk else ''} | "
                      f"{r.get('walk_shift_m', '')}, {r.get('walk_seam_gap_mm', '')} | {r.get('seconds', '')} |")
     (out / "table.md").write_text("\n".join(lines) + "\n")
     walked = "" if walk_ok is None else f"; through the walk {walk_ok} ({100 * summary['walk_share']:.0f} %)"
-    print(f"drape-suite: seed {args.seed}, {len(rows)} designs, {args.frames} frames at rest: {ok} succeed "
+    how = ", arranged round the body" if args.arrange else ""
+    print(f"drape-suite: seed {args.seed}, {len(rows)} designs{how}, {args.frames} frames at rest: {ok} succeed "
           f"({100 * summary['share']:.0f} %){walked}; median {summary['median_seconds_per_design'] or 0:.1f} s per design; "
           f"{out / 'table.md'}, failures' pictures in {out / 'failures'}")
     return 0

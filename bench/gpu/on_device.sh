@@ -40,6 +40,7 @@ export PYTHONPATH=$PWD/native/python PYTHONUNBUFFERED=1
 python3 bench/gpu/run.py --out "$out" --bench-bin .devbin/gpu_bench --timeout "${BENCH_TIMEOUT:-150}" \
     --budget "${BENCH_BUDGET:-1.5}" --sizes ${BENCH_SIZES:-10000 30000 100000 1000000} \
     --frames "${BENCH_FRAMES:-90}" --samples "${BENCH_SAMPLES:-layered,tshirt,skirt,trousers}" \
+    --two-level-samples "${BENCH_TWO_LEVEL_SAMPLES:-tshirt,skirt}" \
     2>&1 | tee "$out/bench.log"
 # The device tool brings back at most 8 files: the samples' reports travel as one archive.
 (cd "$out" && ls ./*.json >/dev/null 2>&1 && tar czf reports.tgz ./*.json && rm -f ./*.json)

@@ -9,12 +9,14 @@ What a machine with a GPU runs once (issue 27: prepare here, run there), in minu
    ``--backend gpu`` and ``--backend cpu``, the Final preset): ms per frame (median of the frames
    after assembly), how many frames each backend solved, and the two runs' seam gap,
    penetration and strain at the last frame, so a GPU figure is never read without its
-   agreement with the CPU.
+   agreement with the CPU;
+3. with ``--two-level-samples``, those samples again with the two-level global step
+   (``--two-level``: `gpu/coarse.wgsl` on the GPU), on both backends.
 
 Writes ``OUT/bench-gpu.md`` (the tables, the adapter, the command, the commit and the machine)
 and the raw reports beside it. Usage: ``python bench/gpu/run.py [--out out/bench-gpu]
 [--frames 90] [--sizes 10000 100000 1000000] [--budget 2] [--samples tshirt,skirt,trousers,layered]
-[--bench-bin PATH] [--timeout S]``. ``--bench-bin`` runs a prebuilt ``gpu_bench`` (a GPU machine
+[--two-level-samples tshirt,skirt] [--bench-bin PATH] [--timeout S]``. ``--bench-bin`` runs a prebuilt ``gpu_bench`` (a GPU machine
 without a Rust toolchain gets the binary built elsewhere); ``--timeout`` bounds each run, so a
 slow backend costs its row, not the table.
 """
@@ -77,13 +79,13 @@ def solver_table(sizes: list[str], budget: float, bench_bin: str | None, timeout
     return f"`{' '.join(cmd)}`\n\n{r.stdout}\n"
 
 
-def sample_run(name: str, backend: str, frames: int, out: Path, timeout: float) -> dict:
-    report = out / f"{name}-{backend}.json"
+def sample_run(name: str, backend: str, frames: int, out: Path, timeout: float, extra: tuple[str, ...] = ()) -> dict:
+    report = out / f"{name}-{backend}{''.join(extra).replace('--', '-')}.json"
     cmd = [sys.executable, "-m", "tailor", "simulate", str(SAMPLES / f"{name}.json"), "--collider",
            str(SAMPLES / "character.glb"), "--frames", str(frames), "--backend", backend, "--preset", "final",
            # Assembled on the walk's first pose and recorded: the assembly's frames are counted
            # and compared too (the default assembles at rest, unrecorded).
-           "--assemble-at", "start",
+           "--assemble-at", "start", *extra,
            "--report", str(report)]
     t0 = time.perf_counter()
     try:
@@ -138,21 +140,24 @@ def agreement(g: dict, c: dict) -> str:
     return "agrees" if not bad else "differs: " + "; ".join(bad)
 
 
-def samples_table(names: list[str], frames: int, out: Path, timeout: float) -> tuple[str, str | None, bool]:
+def samples_table(names: list[str], frames: int, out: Path, timeout: float,
+                  two_level: list[str] = ()) -> tuple[str, str | None, bool]:
     rows = ["| sample | backend | frames solved (cpu / gpu) | ms/frame, assembled (median) | seam gap, mm | "
             "penetration, mm | strain max | verdict | GPU against CPU |", "|---|---|---|---:|---:|---:|---:|---|---|"]
     adapter, all_agree = None, True
-    for name in names:
-        runs = {backend: sample_run(name, backend, frames, out, timeout) for backend in ("gpu", "cpu")}
+    runs_of = [(name, ()) for name in names] + [(name, ("--two-level",)) for name in two_level]
+    for name, extra in runs_of:
+        runs = {backend: sample_run(name, backend, frames, out, timeout, extra) for backend in ("gpu", "cpu")}
+        label = f"{name}, two-level" if extra else name
         agree = agreement(runs["gpu"], runs["cpu"])
         all_agree &= agree == "agrees"
         for backend, r in runs.items():
             if "error" in r:
-                rows.append(f"| {name} | {backend} | failed: {' '.join(r['error'])} | | | | | | |")
+                rows.append(f"| {label} | {backend} | failed: {' '.join(r['error'])} | | | | | | |")
                 continue
             adapter = adapter or r["adapter"]
             b = r["backends"]
-            rows.append(f"| {name} | {backend} | {b.get('cpu', 0)} / {b.get('gpu', 0)} | {r['ms_median']:.1f} | "
+            rows.append(f"| {label} | {backend} | {b.get('cpu', 0)} / {b.get('gpu', 0)} | {r['ms_median']:.1f} | "
                         f"{r['seam_gap_mm']:.2f} | {r['penetration_mm']:.2f} | {r['strain_max']:.3f} | "
                         f"{', '.join(r['verdict']) or 'passes'} | {agree if backend == 'gpu' else ''} |")
     return "\n".join(rows) + "\n", adapter, all_agree
@@ -165,6 +170,7 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", nargs="*", default=["10000", "100000", "1000000"])
     ap.add_argument("--budget", type=float, default=2.0)
     ap.add_argument("--samples", default="tshirt,skirt,trousers,layered")
+    ap.add_argument("--two-level-samples", default="", help="samples to run again with --two-level (comma-separated)")
     ap.add_argument("--bench-bin", default=None, help="a prebuilt gpu_bench instead of cargo run")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds each run may take")
     args = ap.parse_args(argv)
@@ -175,7 +181,7 @@ def main(argv=None) -> int:
     solver = solver_table(args.sizes, args.budget, args.bench_bin, args.timeout) if args.sizes else ""
     (out / "solver.md").write_text(solver)  # kept even if the samples do not finish
     samples, adapter, agree = samples_table([s for s in args.samples.split(",") if s], args.frames, out,
-                                            args.timeout)
+                                            args.timeout, [s for s in args.two_level_samples.split(",") if s])
     text = (f"# bench-gpu\n\nCommand: `python bench/gpu/run.py {' '.join(argv or sys.argv[1:])}` ({started}, commit "
             f"{commit()}). Machine: {before}; at the end: {machine()}. GPU adapter: {adapter or 'none'}.\n\n"
             f"## The solver alone, body and self collision\n\n{solver}\n"

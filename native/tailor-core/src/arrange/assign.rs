@@ -7,8 +7,9 @@
 //!
 //! * the part: `sleeve` (or `arm`, or a drafting system's `sl`, `slv` or a word ending in `sl`,
 //!   as AccuMark's `TEESL`) → an arm; `pant`, `trouser`, `leg`, `short` → a leg; `skirt`,
-//!   `waistband`, `wb`, `waist` → the waist (a waist piece more than 2.5 times as long as
-//!   wide is a band: its length goes round the body, [`Along::Shortest`]); `collar`, `neck`, or a
+//!   `waistband`, `wb`, `waist` → the waist (a waistband more than 2.5 times as long as wide
+//!   is a band: its length goes round the body, [`Along::Shortest`]; a skirt's piece hangs
+//!   along it however narrow, a gored skirt's panel); `collar`, `neck`, or a
 //!   drafting system's `co` or a word ending in `co` (`TEECO`) → the neck (a band goes round
 //!   it); `cuff` → an arm (a leg with a leg's word: `pant_r_cuff`), at the end of its sleeve
 //!   ([`suggest_all`]: the longest side of the arm's other pieces), a band round it; `hood` →
@@ -281,7 +282,11 @@ fn suggest_words(w: &[String], shape: &[[f32; 2]]) -> Suggestion {
         return Suggestion { place: "neck", side: half, around_deg, along, offset: 0.0 };
     }
     if waist {
-        let along = if band(shape) { Along::Shortest } else { Along::Vertical };
+        // A skirt's piece hangs along the body however narrow (a gored skirt's fifteen panels,
+        // 12 cm by 70: taken for bands, they went round the waist and the skirt never closed);
+        // only a waistband's goes round it.
+        let skirt = any(&|x: &str| x.starts_with("skirt")) && !any(&|x: &str| x.starts_with("waist") || x == "wb");
+        let along = if band(shape) && !skirt { Along::Shortest } else { Along::Vertical };
         return Suggestion { place: "waist", side: half, around_deg, along, offset: 0.0 };
     }
     let named_torso = front || back || any(&is_torso);
@@ -384,11 +389,16 @@ mod tests {
         assert!(err.contains("hand") && err.contains("torso_front"), "{err}");
     }
 
-    /// A waist piece much longer than wide is a band, its length round the body.
+    /// A waist piece much longer than wide is a band, its length round the body; a skirt's
+    /// panel as narrow hangs along it.
     #[test]
     fn a_band_goes_round_the_waist() {
         let band = suggest("WB", &[[0.0, 0.0], [0.05, 0.7]]);
         assert_eq!((band.place, band.along), ("waist", Along::Shortest));
+        let panel = suggest("skirt_panel_3", &[[0.0, 0.0], [0.12, 0.7]]);
+        assert_eq!((panel.place, panel.along), ("waist", Along::Vertical));
+        let skirt_band = suggest("skirt_waistband", &[[0.0, 0.0], [0.7, 0.05]]);
+        assert_eq!((skirt_band.place, skirt_band.along), ("waist", Along::Shortest));
         let panel = suggest("skirt_front", &[[0.0, 0.0], [0.6, 0.5]]);
         assert_eq!((panel.place, panel.along), ("waist", Along::Vertical));
     }

@@ -505,6 +505,38 @@ fn the_two_level_step_runs_on_the_gpu_as_on_the_cpu() {
     }
 }
 
+/// The two-level step with the early stop (Preview's): a converged substep's coarse dispatches
+/// do nothing either, and the GPU stops after about as many iterations as the CPU.
+#[test]
+fn the_two_level_step_stops_early_on_the_gpu_as_on_the_cpu() {
+    let make = || {
+        let mut sim = two_level(strip_full(Method::Chebyshev, 1e-4));
+        let mut s = sim.settings().clone();
+        s.tolerance = 0.2;
+        sim.set_settings(s).unwrap();
+        sim
+    };
+    let Some(mut g) = gpu(make(), "two_level_early_stop") else { return };
+    let mut cpu = make();
+    let (max_iterations, mut saved, mut worst) = (cpu.settings().substeps * cpu.settings().iterations, 0, 0.0f32);
+    for f in 0..30 {
+        let a = cpu.step(1.0 / 30.0).unwrap();
+        let b = g.step(1.0 / 30.0).unwrap();
+        assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: {:?}", b.warning);
+        assert!(
+            a.iterations.abs_diff(b.iterations) <= a.substeps,
+            "frame {f}: {} iterations on the CPU, {} on the GPU",
+            a.iterations,
+            b.iterations
+        );
+        saved += max_iterations - b.iterations;
+        worst = worst.max(max_diff(&cpu, g.simulation()));
+    }
+    println!("two-level early stop: {saved} iterations saved over 30 frames, GPU-CPU {worst:.2e} m");
+    assert!(saved > 0, "the settling strip never stopped early on the GPU");
+    assert!(worst < 1e-3, "GPU and CPU differ by {worst} m");
+}
+
 /// The early stop on `tolerance` runs on the GPU without a readback per iteration: the
 /// reduction sets a flag and every iteration stage after it does nothing. The strip starts at
 /// rest, so the first frame's substeps converge early (at 0.2); the GPU stops after as many

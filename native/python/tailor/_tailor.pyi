@@ -255,7 +255,8 @@ class Simulation:
         """Quality of the current state: "penetration_count", "penetration_max_depth" (into
         mesh collider `collider`, 0 without one), "self_intersections", "seam_gap",
         "strain_max", "strain_mean", "kinetic_energy", "particles", "centroid" (the particles'
-        mean, [x, y, z]), "on_body_fraction" (share of the particles within
+        mean, [x, y, z]), "top" (the mean of the highest twentieth against gravity: where the
+        garment hangs from; the centroid without gravity), "on_body_fraction" (share of the particles within
         VERDICT_THRESHOLDS["on_body_distance_m"] (10 cm) of the collider's surface; None without
         one), "collider_centroid" (its surface's area-weighted centroid; None without one) and
         "seams_closing" (the garment is still being assembled). `judge` reads these."""

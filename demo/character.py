@@ -146,7 +146,8 @@ def run(args) -> int:
     summary = {**info, "frames": steps, "action_start_step": start_step, "preroll_frames": job.preroll_frames,
                "simulate_s": sim_s, "ms_per_frame_median": float(np.median(solved_ms)) if solved_ms else 0.0,
                "seams_met_at_step": closed_at, "seams_met_below_m": MET, "phases": phases, "action": action,
-               **{k: action[k] for k in ("assembled_frames", "on_body_fraction", "centroid_shift_m", "verdict")}}
+               **{k: action[k] for k in ("assembled_frames", "on_body_fraction", "centroid_shift_m", "top_shift_m",
+                                         "verdict")}}
     report(summary, phases, rest, args, sim_s, steps)
 
     if not args.no_render:
@@ -194,7 +195,8 @@ def report(summary: dict, phases: dict, rest: list[dict], args, sim_s: float, st
               f"strain max {w['strain_max']:.3f}, self-intersections {w['self_intersections']}, NaN: {w['nan']}")
     share, shift = summary["on_body_fraction"], summary["centroid_shift_m"]
     print("on body:  " + (f"at least {share * 100:.0f} % within {tailor.VERDICT_THRESHOLDS['on_body_distance_m'] * 1e2:g} "
-                           f"cm of the body, centroid moved at most {shift * 1e2:.1f} cm on it over "
+                           f"cm of the body, centroid moved at most {shift * 1e2:.1f} cm on it "
+                           f"(top {summary['top_shift_m'] * 1e2:.1f} cm) over "
                            f"{summary['assembled_frames']} assembled frames of the {args.action}" if share is not None
                            else "never assembled"))
     print("verdict:  " + ("passes its checks" if not summary["verdict"] else

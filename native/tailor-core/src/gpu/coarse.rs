@@ -3,7 +3,7 @@
 
 use super::Buffers;
 
-pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("coarse.wgsl"));
+pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("row.wgsl"), include_str!("coarse.wgsl"));
 pub const RESIDUAL_ENTRY: &str = "residual";
 pub const RESTRICT_ENTRY: &str = "restrict_residual";
 pub const SOLVE_ENTRY: &str = "solve";

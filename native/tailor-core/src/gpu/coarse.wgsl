@@ -44,27 +44,9 @@ fn residual(@builtin(global_invocation_id) gid: vec3<u32>) {
         cres[i] = vec4<f32>(0.0);
         return;
     }
-    // `GlobalSystem::row`, in its order.
-    var r = rhs[i].xyz;
-    let s0 = idx[params.slot_off + i];
-    let s1 = idx[params.slot_off + i + 1u];
-    for (var s = s0; s < s1; s++) {
-        r += slots[idx[params.slot_idx + s]].xyz;
-    }
-    let k0 = idx[params.mat_off + i];
-    let k1 = idx[params.mat_off + i + 1u];
-    for (var k = k0; k < k1; k++) {
-        r -= x[idx[params.mat_cols + k]].xyz * fdata[params.mat_vals + k];
-    }
-    var d = fdata[params.diag + i];
-    let c = contacts[i];
-    var w = 0.0;
-    if (c.weight > 0.0) {
-        r += c.target_pos * c.weight;
-        d += c.weight;
-        w = c.weight;
-    }
-    cres[i] = vec4<f32>((r / d - x[i].xyz) * d, w);
+    let row = row_of(i);
+    let d = row.diagonal;
+    cres[i] = vec4<f32>((row.sum / d - x[i].xyz) * d, row.contact_weight);
 }
 
 @compute @workgroup_size(64)

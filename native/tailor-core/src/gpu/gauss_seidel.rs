@@ -4,7 +4,8 @@ use bytemuck::{Pod, Zeroable};
 
 use super::Buffers;
 
-pub const SOURCE: &str = concat!(include_str!("common.wgsl"), include_str!("gauss_seidel.wgsl"));
+pub const SOURCE: &str =
+    concat!(include_str!("common.wgsl"), include_str!("row.wgsl"), include_str!("gauss_seidel.wgsl"));
 pub const ENTRY: &str = "main";
 pub const WORKGROUP: u32 = 64;
 

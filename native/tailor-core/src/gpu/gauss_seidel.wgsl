@@ -31,24 +31,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let i = idx[params.order + colour.start + gid.x];
-    var r = rhs[i].xyz;
-    let s0 = idx[params.slot_off + i];
-    let s1 = idx[params.slot_off + i + 1u];
-    for (var s = s0; s < s1; s++) {
-        r += slots[idx[params.slot_idx + s]].xyz;
-    }
-    let k0 = idx[params.mat_off + i];
-    let k1 = idx[params.mat_off + i + 1u];
-    for (var k = k0; k < k1; k++) {
-        r -= x[idx[params.mat_cols + k]].xyz * fdata[params.mat_vals + k];
-    }
-    var d = fdata[params.diag + i];
-    let c = contacts[i];
-    if (c.weight > 0.0) {
-        r += c.target_pos * c.weight;
-        d += c.weight;
-    }
-    let new_x = r / d;
+    let row = row_of(i);
+    let d = row.diagonal;
+    let new_x = row.sum / d;
     let du = new_x - x[i].xyz;
     x[i] = vec4<f32>(new_x, 0.0);
     let u2 = dot(du, du);

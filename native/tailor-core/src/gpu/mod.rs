@@ -80,6 +80,7 @@ pub mod project_stencils;
 pub mod project_triangles;
 pub mod ramp;
 pub mod resolve_mesh;
+pub mod row;
 pub mod self_collide;
 mod timing;
 mod upload;

@@ -338,7 +338,7 @@ mod tests {
         assert_eq!(centroid(&[]), [0.0; 3]);
     }
 
-    /// The top is the mean of the highest twentieth against gravity (a point of five here),
+    /// The top is the mean of the highest twentieth against gravity (two of forty points here),
     /// whichever way up; without gravity the centroid.
     #[test]
     fn the_top_is_the_highest_twentieth() {

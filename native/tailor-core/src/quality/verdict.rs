@@ -18,7 +18,7 @@
 //! placed below the shirt it is sewn to comes up 17 cm) are not taken for a fall. A garment
 //! falls with its top, where it hangs from: one whose top stays while the rest drops (a circle
 //! skirt or a tiered one sewn up round the waist, unfolding to its length once gravity comes
-//! back: centroids 21-23 cm down, tops 3-4 cm) drapes, and is not taken for a fall either.
+//! back: centroids 21-23 cm down, tops 1-3 cm) drapes, and is not taken for a fall either.
 
 use glam::Vec3;
 

@@ -15,7 +15,7 @@ use tailor_core::quality::metrics::count_self_intersections;
 use tailor_core::scenes::{rectangle, sewn_tube};
 use tailor_core::solver::{
     ActiveBackend, ColliderId, Fabric, ImplicitCollider, MeshColliderOptions, Method, RampPhase, SelfCollisionSettings,
-    SelfContacts, Shape, Simulation, SolverSettings,
+    SelfContacts, Shape, Simulation, SolverSettings, StepStats,
 };
 
 /// Bound on max |Δx| between CPU and GPU positions over the first 30 frames of the hanging
@@ -505,33 +505,51 @@ fn the_two_level_step_runs_on_the_gpu_as_on_the_cpu() {
     }
 }
 
-/// The two-level step with the early stop (Preview's): a converged substep's coarse dispatches
-/// do nothing either, and the GPU stops after about as many iterations as the CPU.
-#[test]
-fn the_two_level_step_stops_early_on_the_gpu_as_on_the_cpu() {
-    let make = || {
-        let mut sim = two_level(strip_full(Method::Chebyshev, 1e-4));
-        let mut s = sim.settings().clone();
-        s.tolerance = 0.2;
-        sim.set_settings(s).unwrap();
-        sim
-    };
-    let Some(mut g) = gpu(make(), "two_level_early_stop") else { return };
-    let mut cpu = make();
+/// `sim` with the early stop at `tolerance`.
+fn stopping_at(mut sim: Simulation, tolerance: f32) -> Simulation {
+    let mut s = sim.settings().clone();
+    s.tolerance = tolerance;
+    sim.set_settings(s).unwrap();
+    sim
+}
+
+/// Steps `cpu` and `g` (the same scene, the early stop on) `frames` frames: every frame on the
+/// GPU, its iterations within a substep's count of the CPU's, `check` on each frame's two stats;
+/// returns the GPU's iterations saved and the largest position difference.
+fn stops_early_as_the_cpu(
+    cpu: &mut Simulation,
+    g: &mut Solver,
+    frames: usize,
+    check: impl Fn(usize, &StepStats, &StepStats),
+) -> (u32, f32) {
     let (max_iterations, mut saved, mut worst) = (cpu.settings().substeps * cpu.settings().iterations, 0, 0.0f32);
-    for f in 0..30 {
+    for f in 0..frames {
         let a = cpu.step(1.0 / 30.0).unwrap();
         let b = g.step(1.0 / 30.0).unwrap();
         assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: {:?}", b.warning);
+        check(f, &a, &b);
         assert!(
             a.iterations.abs_diff(b.iterations) <= a.substeps,
             "frame {f}: {} iterations on the CPU, {} on the GPU",
             a.iterations,
             b.iterations
         );
+        if std::env::var("VERBOSE").is_ok() {
+            println!("frame {f}: iterations cpu {} gpu {}", a.iterations, b.iterations);
+        }
         saved += max_iterations - b.iterations;
-        worst = worst.max(max_diff(&cpu, g.simulation()));
+        worst = worst.max(max_diff(cpu, g.simulation()));
     }
+    (saved, worst)
+}
+
+/// The two-level step with the early stop (Preview's): a converged substep's coarse dispatches
+/// do nothing either, and the GPU stops after about as many iterations as the CPU.
+#[test]
+fn the_two_level_step_stops_early_on_the_gpu_as_on_the_cpu() {
+    let make = || stopping_at(two_level(strip_full(Method::Chebyshev, 1e-4)), 0.2);
+    let Some(mut g) = gpu(make(), "two_level_early_stop") else { return };
+    let (saved, worst) = stops_early_as_the_cpu(&mut make(), &mut g, 30, |_, _, _| {});
     println!("two-level early stop: {saved} iterations saved over 30 frames, GPU-CPU {worst:.2e} m");
     assert!(saved > 0, "the settling strip never stopped early on the GPU");
     assert!(worst < 1e-3, "GPU and CPU differ by {worst} m");
@@ -544,38 +562,16 @@ fn the_two_level_step_stops_early_on_the_gpu_as_on_the_cpu() {
 /// iteration either way) and the two agree to rounding.
 #[test]
 fn the_early_stop_runs_on_the_gpu_as_on_the_cpu() {
-    let make = || {
-        let mut sim = strip_with(Method::GaussSeidel);
-        let mut s = sim.settings().clone();
-        s.tolerance = 0.2;
-        sim.set_settings(s).unwrap();
-        sim
-    };
+    let make = || stopping_at(strip_with(Method::GaussSeidel), 0.2);
     let Some(mut g) = gpu(make(), "early_stop") else { return };
-    let mut cpu = make();
-    let (max_iterations, mut saved, mut worst) = (cpu.settings().substeps * cpu.settings().iterations, 0, 0.0f32);
-    for f in 0..40 {
-        let a = cpu.step(1.0 / 30.0).unwrap();
-        let b = g.step(1.0 / 30.0).unwrap();
-        assert_eq!(b.backend, ActiveBackend::Gpu, "frame {f}: {:?}", b.warning);
+    let (saved, worst) = stops_early_as_the_cpu(&mut make(), &mut g, 40, |f, a, b| {
         // The frame plan: per substep predict, finish, ramp, and per iteration project, the
         // colours' sweeps, the reduction's two passes (no extrapolation: Gauss-Seidel), a gate
         // from the second on.
         let per_iteration = 1 + b.colours + 2;
         let planned = b.substeps as usize * (3 + 30 * per_iteration + 29);
         assert_eq!((a.dispatches, b.dispatches), (0, planned), "frame {f}");
-        assert!(
-            a.iterations.abs_diff(b.iterations) <= a.substeps,
-            "frame {f}: {} iterations on the CPU, {} on the GPU",
-            a.iterations,
-            b.iterations
-        );
-        if std::env::var("VERBOSE").is_ok() {
-            println!("frame {f}: iterations cpu {} gpu {}", a.iterations, b.iterations);
-        }
-        saved += max_iterations - b.iterations;
-        worst = worst.max(max_diff(&cpu, g.simulation()));
-    }
+    });
     assert!(saved > 0, "the settling strip never stopped early on the GPU");
     assert!(worst < 1e-3, "GPU and CPU differ by {worst} m");
     println!("early stop: {saved} iterations saved over 40 frames, GPU-CPU {worst:.2e} m");

@@ -16,6 +16,7 @@ before it can be simulated.
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 
 def register(sub):
@@ -55,8 +56,6 @@ def run(args) -> int:
     garment = tailor.Garment.from_pattern(args.pattern, edge=args.edge, size=args.size, units=args.units,
                                           unfold=args.unfold, quantities=args.quantities)
     if body is not None:
-        from pathlib import Path
-
         from tailor.arrange import arrange_garment
 
         up = args.up or ("z" if Path(args.arrange).suffix.lower() == ".ply" else "y")

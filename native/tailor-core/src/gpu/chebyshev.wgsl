@@ -14,6 +14,8 @@
 @group(0) @binding(6) var<storage, read_write> partials: array<vec2<f32>, 256>;
 
 const REDUCE: u32 = 256u;
+// `chebyshev.rs::RUNAWAY`.
+const RUNAWAY: f32 = 10.0;
 var<workgroup> sum_u: array<f32, 256>;
 var<workgroup> sum_r: array<f32, 256>;
 
@@ -80,11 +82,17 @@ fn reduce_omega(@builtin(local_invocation_index) li: u32) {
         state.stop = 1u;
     }
     state.iterations_run += 1u;
-    // `Chebyshev::omega`: restart when the update norm grew; the last iteration is plain.
+    // `Chebyshev::omega`: restart when the update norm grew; plain sweeps to the substep's end
+    // once an update outgrew the first sweep's RUNAWAY times; the last iteration is plain.
     let grew = state.started != 0u && delta > state.last_delta;
     state.last_delta = delta;
+    if (k == 0u) {
+        state.first_delta = delta;
+    } else if (delta > RUNAWAY * state.first_delta) {
+        state.diverging = 1u;
+    }
     let rho = params.rho;
-    if (k < params.delay || rho <= 0.0 || grew || k + 1u >= params.iterations) {
+    if (k < params.delay || rho <= 0.0 || grew || state.diverging != 0u || k + 1u >= params.iterations) {
         state.started = 0u;
         state.omega = 1.0;
     } else {

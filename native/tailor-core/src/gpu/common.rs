@@ -89,7 +89,7 @@ pub struct Params {
     pub _pad_coarse: [u32; 3],
 }
 
-/// Mirror of WGSL `StepState` (storage; 96 bytes).
+/// Mirror of WGSL `StepState` (storage; 104 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
 pub struct StepState {
@@ -128,6 +128,10 @@ pub struct StepState {
     pub stall_on: u32,
     pub stall_best: f32,
     pub stall_since: f32,
+    /// The substep's first sweep's update norm, and whether an update outgrew it `RUNAWAY` times (then plain
+    /// sweeps to the substep's end: `Chebyshev::omega`).
+    pub first_delta: f32,
+    pub diverging: u32,
 }
 
 /// Mirror of WGSL `Particle` (32 bytes): each `vec3<f32>` is followed by a 4-byte scalar,

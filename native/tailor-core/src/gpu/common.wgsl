@@ -127,6 +127,10 @@ struct StepState {
     stall_on: u32,
     stall_best: f32,
     stall_since: f32,
+    // The substep's first sweep's update norm, and whether an update outgrew it RUNAWAY times (then plain
+    // sweeps to the substep's end: `Chebyshev::omega`).
+    first_delta: f32,
+    diverging: u32,
 }
 
 const PHASE_CLOSING: u32 = 0u;

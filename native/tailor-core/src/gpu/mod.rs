@@ -15,7 +15,7 @@
 //! ([`Simulation::gpu_view`](crate::solver::Simulation::gpu_view): colouring, diagonal, the
 //! measured Chebyshev ρ), uploads it once (again only after an edit, reusing the buffers when
 //! they are large enough), then each frame records every substep's dispatches into one
-//! command buffer, submits it, and reads back positions plus a 96-byte state (residual, seam
+//! command buffer, submits it, and reads back positions plus a 104-byte state (residual, seam
 //! gap, ramp phase) once, with the seam pairs' closing schedule while it runs. Velocities are
 //! read back only on request.
 //!

@@ -19,6 +19,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         state.omega = 1.0;
         state.started = 0u;
         state.last_delta = F32_MAX;
+        state.first_delta = F32_MAX;
+        state.diverging = 0u;
         state.k = 0u;
         state.done = 0u;
         state.stop = 0u;

@@ -11,9 +11,19 @@
 //! measured whenever the topology, the stiffness or `h` changes (never per substep), and
 //! used as `ρ = min(safety·ρ_GS, max_rho)`: the local projections make the real iteration
 //! slightly different from the linear one, and over-estimating ρ makes Chebyshev oscillate
-//! while under-estimating it only loses some speed, hence `safety < 1`. If an accelerated
-//! update norm more than doubles, the ω sequence restarts from the current iterate. A fixed ρ
-//! in the settings overrides the measurement.
+//! while under-estimating it only loses some speed, hence `safety < 1`. A fixed ρ in the
+//! settings overrides the measurement.
+//!
+//! **Restarts and the guard.** When an accelerated sweep's update norm grew over the last one,
+//! that sweep is plain and the sequence starts again from `ω_S`. When an update outgrows the
+//! substep's first sweep's [`RUNAWAY`] times, the extrapolation is running away from the
+//! prediction it started from, and the substep ends in plain sweeps (Gauss-Seidel with the local step
+//! converges on its own). The restart alone did not hold: it extrapolates again at once with
+//! `ω_S ≈ 1.98` from the overshoot that grew, and on the skirt sample at 240 iterations a
+//! substep that cycle (ω ≈ 1.98, 1.96, 1) grew a mode at the waist, where four seams meet, by
+//! about 4 % an iteration until the step diverged at frame 23; with the seams at full stiffness
+//! from the first step it diverged in the first frame, where plain Gauss-Seidel closes them to
+//! 0.36 mm (`tests/test_solver.py`; docs/architecture.md has what else was measured).
 //!
 //! **The last iteration of the budget is a plain sweep** (ω = 1; a solve that a tolerance ends
 //! earlier ends on an extrapolated iterate, as before): the substep ends on the Gauss-Seidel
@@ -30,6 +40,12 @@ use rayon::prelude::*;
 use crate::solver::model::settings::ChebyshevSettings;
 use crate::solver::model::system::SparseSym32;
 
+/// An update this many times the substep's first sweep's is a runaway: plain sweeps to the
+/// substep's end. A converging substep's updates stay under its first sweep's, apart from the
+/// few where contacts or self-collision change between sweeps (the layered sample's grow past
+/// it, and ending its extrapolation there opened a seam 3.5 mm); a runaway passes any factor.
+pub const RUNAWAY: f32 = 10.0;
+
 /// Per-simulation Chebyshev state.
 #[derive(Debug, Clone, Default)]
 pub struct Chebyshev {
@@ -38,6 +54,10 @@ pub struct Chebyshev {
     omega: f32,
     started: bool,
     last_delta: f32,
+    /// The substep's first sweep's update norm.
+    first_delta: f32,
+    /// An update outgrew the first sweep's [`RUNAWAY`] times: plain sweeps to the substep's end.
+    diverging: bool,
 }
 
 impl Chebyshev {
@@ -46,6 +66,8 @@ impl Chebyshev {
         self.omega = 1.0;
         self.started = false;
         self.last_delta = f32::INFINITY;
+        self.first_delta = f32::INFINITY;
+        self.diverging = false;
     }
 
     /// The radius that acceleration uses.
@@ -58,8 +80,13 @@ impl Chebyshev {
     pub fn omega(&mut self, k: u32, iterations: u32, delta: f32, s: &ChebyshevSettings) -> f32 {
         let grew = self.started && delta > self.last_delta;
         self.last_delta = delta;
+        if k == 0 {
+            self.first_delta = delta;
+        } else if delta > RUNAWAY * self.first_delta {
+            self.diverging = true;
+        }
         let rho = self.rho(s);
-        if k < s.delay || rho <= 0.0 || grew || k + 1 >= iterations {
+        if k < s.delay || rho <= 0.0 || grew || self.diverging || k + 1 >= iterations {
             self.started = false;
             self.omega = 1.0;
             return 1.0;
@@ -120,6 +147,28 @@ pub fn spectral_radius_gs(matrix: &SparseSym32, diag: &[f32], groups: &[Vec<u32>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The ω sequence: `delay` plain sweeps, then 2/(2−ρ²) and the recurrence; a growth restarts
+    /// it; an update larger than the first sweep's ends it for the substep; the budget's last
+    /// sweep is plain.
+    #[test]
+    fn an_update_that_outgrows_the_first_ends_the_extrapolation() {
+        let s = ChebyshevSettings { rho: Some(0.9), ..Default::default() };
+        let mut c = Chebyshev::default();
+        c.begin_substep();
+        let deltas = [8.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.3, 0.2, 0.1, 81.0, 0.05, 0.01];
+        let omegas: Vec<f32> = deltas.iter().enumerate().map(|(k, &d)| c.omega(k as u32, 12, d, &s)).collect();
+        let first = 2.0 / (2.0 - 0.81);
+        assert_eq!(&omegas[..4], &[1.0; 4], "the delay");
+        assert_eq!((omegas[4], omegas[5]), (first, 4.0 / (4.0 - 0.81 * first)));
+        assert_eq!(omegas[6], 1.0, "a growth restarts");
+        assert_eq!((omegas[7], omegas[8]), (first, 4.0 / (4.0 - 0.81 * first)), "from the start");
+        assert_eq!(&omegas[9..], &[1.0; 3], "past the first sweep's update: plain to the end");
+        // The next substep extrapolates again.
+        c.begin_substep();
+        let again: Vec<f32> = deltas[..5].iter().enumerate().map(|(k, &d)| c.omega(k as u32, 12, d, &s)).collect();
+        assert_eq!(again[4], first);
+    }
 
     /// 1D Poisson matrix tridiag(−1, 2, −1): the Gauss-Seidel iteration matrix has spectral
     /// radius cos²(π/(n+1)) for any red-black (two-colour) order.

@@ -17,8 +17,8 @@
 //! **Restarts and the guard.** When an accelerated sweep's update norm grew over the last one,
 //! that sweep is plain and the sequence starts again from `ω_S`. When an update outgrows the
 //! substep's first sweep's [`RUNAWAY`] times, the extrapolation is running away from the
-//! prediction it started from, and the substep ends in plain sweeps (Gauss-Seidel with the local step
-//! converges on its own). The restart alone did not hold: it extrapolates again at once with
+//! prediction it started from, and the substep ends in plain sweeps (which closed the seams
+//! where the extrapolation diverged, below). The restart alone did not hold: it extrapolates again at once with
 //! `ω_S ≈ 1.98` from the overshoot that grew, and on the skirt sample at 240 iterations a
 //! substep that cycle (ω ≈ 1.98, 1.96, 1) grew a mode at the waist, where four seams meet, by
 //! about 4 % an iteration until the step diverged at frame 23; with the seams at full stiffness
